@@ -1,0 +1,93 @@
+// stepstone db info | migrate
+
+#include <iostream>
+#include <memory>
+
+#include <nlohmann/json.hpp>
+
+#include "commands.hpp"
+#include "db/database.hpp"
+#include "db/inspect.hpp"
+
+namespace stepstone::app {
+
+namespace {
+
+struct DbInfoOptions {
+    std::string file;
+    bool json = false;
+};
+
+void run_db_info(const DbInfoOptions& options) {
+    auto connection = db::open_database(options.file, db::OpenMode::read_only, /*allow_older=*/true);
+    const auto info = db::database_info(connection);
+    const auto tables = db::table_counts(connection);
+    if (options.json) {
+        nlohmann::json out;
+        out["file"] = options.file;
+        out["application_id"] = info.application_id;
+        out["schema_version"] = info.schema_version;
+        out["program_schema_version"] = db::latest_schema_version();
+        out["tables"] = nlohmann::json::object();
+        for (const auto& table : tables) out["tables"][table.name] = table.rows;
+        std::cout << out.dump(2) << '\n';
+        return;
+    }
+    char app_id[16];
+    std::snprintf(app_id, sizeof app_id, "0x%08x", info.application_id);
+    std::cout << "file            " << options.file << '\n'
+              << "application_id  " << app_id << " (stepstone)\n"
+              << "schema_version  " << info.schema_version << " (this program: " << db::latest_schema_version()
+              << ")\n"
+              << "tables          " << tables.size() << '\n';
+    for (const auto& table : tables) {
+        std::cout << "  " << table.name << std::string(table.name.size() < 24 ? 24 - table.name.size() : 1, ' ')
+                  << table.rows << '\n';
+    }
+}
+
+void run_db_migrate(const std::string& file) {
+    int before = 0;
+    {
+        auto connection = db::open_database(file, db::OpenMode::read_only, /*allow_older=*/true);
+        before = db::database_info(connection).schema_version;
+    }
+    auto connection = db::open_database(file, db::OpenMode::read_write);
+    const int after = db::database_info(connection).schema_version;
+    std::cout << file << ": schema version " << before;
+    if (after == before) {
+        std::cout << ", up to date\n";
+    } else {
+        std::cout << " -> " << after << '\n';
+    }
+}
+
+}  // namespace
+
+namespace {
+
+void add_db_command(CLI::App& app) {
+    auto* db_cmd = app.add_subcommand("db", "Inspect and upgrade stepstone database files");
+    db_cmd->require_subcommand(1);
+    db_cmd->footer(example({"stepstone db info run.db --json", "stepstone db migrate old_run.db"}));
+
+    auto info_options = std::make_shared<DbInfoOptions>();
+    auto* info = db_cmd->add_subcommand("info", "Print the application id, schema version and row counts of a database");
+    info->add_option("file", info_options->file, "A stepstone database (opened read-only)")->required();
+    info->add_flag("--json", info_options->json, "Print JSON instead of text");
+    info->footer(example({"stepstone db info run.db", "stepstone db info run.db --json"}));
+    info->callback([info_options] { run_db_info(*info_options); });
+
+    auto file = std::make_shared<std::string>();
+    auto* migrate = db_cmd->add_subcommand("migrate", "Upgrade a database to this program's schema version");
+    migrate->add_option("file", *file, "A stepstone database (updated in place, one transaction per migration)")
+        ->required();
+    migrate->footer(example({"stepstone db migrate run.db"}));
+    migrate->callback([file] { run_db_migrate(*file); });
+}
+
+const CommandRegistrar registrar(90, add_db_command);
+
+}  // namespace
+
+}  // namespace stepstone::app

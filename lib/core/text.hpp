@@ -1,0 +1,22 @@
+#pragma once
+
+#include <sstream>
+#include <string>
+#include <utility>
+
+namespace stepstone {
+
+/// Concatenates anything printable with operator<< into one string
+/// (g++ 12 has no std::format). Doubles print with up to 17 significant digits.
+template <class... Parts>
+std::string concat(Parts&&... parts) {
+    std::ostringstream out;
+    out.precision(17);
+    (out << ... << std::forward<Parts>(parts));
+    return out.str();
+}
+
+/// Replaces newlines and carriage returns by "; " so a message stays on one line.
+std::string one_line(std::string text);
+
+}  // namespace stepstone

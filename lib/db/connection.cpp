@@ -1,0 +1,200 @@
+#include "db/connection.hpp"
+
+#include <sqlite3.h>
+
+#include <utility>
+
+#include "core/error.hpp"
+#include "core/text.hpp"
+
+namespace stepstone::db {
+
+// ---------------------------------------------------------------- Connection
+
+Connection::Connection(const std::filesystem::path& path, OpenMode mode) : path_(path), mode_(mode) {
+    int flags = SQLITE_OPEN_NOMUTEX;
+    switch (mode) {
+        case OpenMode::read_only: flags |= SQLITE_OPEN_READONLY; break;
+        case OpenMode::read_write: flags |= SQLITE_OPEN_READWRITE; break;
+        case OpenMode::create: flags |= SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE; break;
+    }
+    const int rc = sqlite3_open_v2(path.c_str(), &db_, flags, nullptr);
+    if (rc != SQLITE_OK) {
+        std::string message = db_ ? sqlite3_errmsg(db_) : sqlite3_errstr(rc);
+        sqlite3_close_v2(db_);
+        db_ = nullptr;
+        throw DatabaseError(concat(name(), ": cannot open: ", message));
+    }
+    sqlite3_extended_result_codes(db_, 1);
+    sqlite3_busy_timeout(db_, 10000);
+    exec("PRAGMA foreign_keys = ON");
+}
+
+Connection::~Connection() {
+    if (db_) sqlite3_close_v2(db_);
+}
+
+Connection::Connection(Connection&& other) noexcept
+    : db_(std::exchange(other.db_, nullptr)), path_(std::move(other.path_)), mode_(other.mode_) {}
+
+Connection& Connection::operator=(Connection&& other) noexcept {
+    if (this != &other) {
+        if (db_) sqlite3_close_v2(db_);
+        db_ = std::exchange(other.db_, nullptr);
+        path_ = std::move(other.path_);
+        mode_ = other.mode_;
+    }
+    return *this;
+}
+
+void Connection::close() {
+    if (!db_) return;
+    if (sqlite3_close(db_) != SQLITE_OK) fail("cannot close");
+    db_ = nullptr;
+}
+
+void Connection::fail(std::string_view context) const {
+    throw DatabaseError(concat(name(), ": ", context, ": ", db_ ? sqlite3_errmsg(db_) : "closed"));
+}
+
+void Connection::exec(std::string_view sql) {
+    char* error = nullptr;
+    const std::string text(sql);
+    if (sqlite3_exec(db_, text.c_str(), nullptr, nullptr, &error) != SQLITE_OK) {
+        std::string message = error ? error : sqlite3_errmsg(db_);
+        sqlite3_free(error);
+        throw DatabaseError(concat(name(), ": ", one_line(message)));
+    }
+}
+
+Statement Connection::prepare(std::string_view sql) { return Statement(*this, sql); }
+
+std::optional<std::int64_t> Connection::query_int(std::string_view sql) {
+    Statement statement(*this, sql);
+    if (!statement.step() || statement.is_null(0)) return std::nullopt;
+    return statement.column_int(0);
+}
+
+std::int64_t Connection::last_insert_rowid() const { return sqlite3_last_insert_rowid(db_); }
+
+// ----------------------------------------------------------------- Statement
+
+Statement::Statement(Connection& connection, std::string_view sql) : connection_(&connection) {
+    const char* tail = nullptr;
+    if (sqlite3_prepare_v3(connection.handle(), sql.data(), static_cast<int>(sql.size()),
+                           SQLITE_PREPARE_PERSISTENT, &stmt_, &tail) != SQLITE_OK) {
+        connection.fail("cannot prepare statement");
+    }
+    if (!stmt_) {
+        throw DatabaseError(concat(connection.name(), ": empty statement"));
+    }
+}
+
+Statement::~Statement() {
+    if (stmt_) sqlite3_finalize(stmt_);
+}
+
+Statement::Statement(Statement&& other) noexcept
+    : connection_(other.connection_), stmt_(std::exchange(other.stmt_, nullptr)) {}
+
+void Statement::check(int rc, std::string_view context) const {
+    if (rc != SQLITE_OK) connection_->fail(context);
+}
+
+Statement& Statement::bind(int index, std::int64_t value) {
+    check(sqlite3_bind_int64(stmt_, index, value), "bind");
+    return *this;
+}
+
+Statement& Statement::bind(int index, double value) {
+    check(sqlite3_bind_double(stmt_, index, value), "bind");
+    return *this;
+}
+
+Statement& Statement::bind(int index, std::string_view value) {
+    check(sqlite3_bind_text64(stmt_, index, value.data(), value.size(), SQLITE_TRANSIENT, SQLITE_UTF8), "bind");
+    return *this;
+}
+
+Statement& Statement::bind_blob(int index, std::span<const std::byte> value) {
+    // a zero-length blob is still a blob, not NULL
+    check(sqlite3_bind_blob64(stmt_, index, value.empty() ? "" : static_cast<const void*>(value.data()),
+                              value.size(), SQLITE_TRANSIENT),
+          "bind");
+    return *this;
+}
+
+Statement& Statement::bind_null(int index) {
+    check(sqlite3_bind_null(stmt_, index), "bind");
+    return *this;
+}
+
+int Statement::parameter(std::string_view name) const {
+    const std::string text(name);
+    const int index = sqlite3_bind_parameter_index(stmt_, text.c_str());
+    if (index == 0) {
+        throw DatabaseError(concat(connection_->name(), ": statement has no parameter ", name));
+    }
+    return index;
+}
+
+int Statement::parameter_count() const { return sqlite3_bind_parameter_count(stmt_); }
+
+bool Statement::step() {
+    const int rc = sqlite3_step(stmt_);
+    if (rc == SQLITE_ROW) return true;
+    if (rc == SQLITE_DONE) return false;
+    connection_->fail("query failed");
+}
+
+void Statement::run() {
+    while (step()) {
+    }
+}
+
+void Statement::reset() {
+    sqlite3_reset(stmt_);
+    sqlite3_clear_bindings(stmt_);
+}
+
+int Statement::column_count() const { return sqlite3_column_count(stmt_); }
+
+std::string Statement::column_name(int index) const { return sqlite3_column_name(stmt_, index); }
+
+bool Statement::is_null(int index) const { return sqlite3_column_type(stmt_, index) == SQLITE_NULL; }
+
+std::int64_t Statement::column_int(int index) const { return sqlite3_column_int64(stmt_, index); }
+
+double Statement::column_double(int index) const { return sqlite3_column_double(stmt_, index); }
+
+std::string Statement::column_text(int index) const {
+    const auto* text = sqlite3_column_text(stmt_, index);
+    const int size = sqlite3_column_bytes(stmt_, index);
+    return text ? std::string(reinterpret_cast<const char*>(text), static_cast<std::size_t>(size)) : std::string();
+}
+
+std::span<const std::byte> Statement::column_blob(int index) const {
+    const void* data = sqlite3_column_blob(stmt_, index);
+    const int size = sqlite3_column_bytes(stmt_, index);
+    return {static_cast<const std::byte*>(data), static_cast<std::size_t>(size)};
+}
+
+// --------------------------------------------------------------- Transaction
+
+Transaction::Transaction(Connection& connection) : connection_(connection) {
+    connection_.exec("BEGIN IMMEDIATE");
+}
+
+Transaction::~Transaction() {
+    if (!done_) {
+        // never throws: a failed rollback leaves SQLite to roll back on close
+        sqlite3_exec(connection_.handle(), "ROLLBACK", nullptr, nullptr, nullptr);
+    }
+}
+
+void Transaction::commit() {
+    connection_.exec("COMMIT");
+    done_ = true;
+}
+
+}  // namespace stepstone::db

@@ -1,0 +1,124 @@
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+
+struct sqlite3;
+struct sqlite3_stmt;
+
+namespace stepstone::db {
+
+/// How a database file is opened.
+enum class OpenMode {
+    read_only,   ///< inputs: never written
+    read_write,  ///< an existing file that will be updated
+    create,      ///< a new file (it must not exist yet)
+};
+
+class Statement;
+
+/// An open SQLite connection (RAII). Foreign keys are on and a busy timeout is
+/// set; writable connections use WAL. Every failure throws DatabaseError
+/// whose message starts with the file name. Not thread-safe: one per thread.
+class Connection {
+public:
+    /// Opens `path` with the raw SQLite checks only (see db/database.hpp for
+    /// the stepstone checks). ":memory:" opens a private in-memory database.
+    Connection(const std::filesystem::path& path, OpenMode mode);
+    ~Connection();
+    Connection(Connection&& other) noexcept;
+    Connection& operator=(Connection&& other) noexcept;
+    Connection(const Connection&) = delete;
+    Connection& operator=(const Connection&) = delete;
+
+    /// Runs one or more statements that return no rows.
+    void exec(std::string_view sql);
+    /// Prepares one statement.
+    Statement prepare(std::string_view sql);
+    /// The single value of a one-row, one-column query (nullopt if no row or NULL).
+    std::optional<std::int64_t> query_int(std::string_view sql);
+
+    std::int64_t last_insert_rowid() const;
+    bool read_only() const { return mode_ == OpenMode::read_only; }
+    const std::filesystem::path& path() const { return path_; }
+    /// The file name used in error messages.
+    std::string name() const { return path_.filename().string(); }
+    sqlite3* handle() const { return db_; }
+
+    /// Closes now (the destructor does it otherwise); throws on failure.
+    void close();
+
+    /// Throws DatabaseError "<file>: <context>: <sqlite message>".
+    [[noreturn]] void fail(std::string_view context) const;
+
+private:
+    sqlite3* db_ = nullptr;
+    std::filesystem::path path_;
+    OpenMode mode_ = OpenMode::read_only;
+};
+
+/// A prepared statement (RAII). bind() indices start at 1, column() at 0.
+class Statement {
+public:
+    Statement(Connection& connection, std::string_view sql);
+    ~Statement();
+    Statement(Statement&& other) noexcept;
+    Statement& operator=(Statement&&) = delete;
+    Statement(const Statement&) = delete;
+    Statement& operator=(const Statement&) = delete;
+
+    Statement& bind(int index, std::int64_t value);
+    Statement& bind(int index, int value) { return bind(index, static_cast<std::int64_t>(value)); }
+    Statement& bind(int index, double value);
+    Statement& bind(int index, std::string_view value);
+    Statement& bind(int index, const char* value) { return bind(index, std::string_view(value)); }
+    Statement& bind_blob(int index, std::span<const std::byte> value);
+    Statement& bind_null(int index);
+    /// Index of a named parameter (":name"); throws if the statement has none.
+    int parameter(std::string_view name) const;
+    int parameter_count() const;
+
+    /// Advances; true while a row is available.
+    bool step();
+    /// Steps to completion, for statements that return no rows.
+    void run();
+    /// Resets for another execution and clears the bindings.
+    void reset();
+
+    int column_count() const;
+    std::string column_name(int index) const;
+    bool is_null(int index) const;
+    std::int64_t column_int(int index) const;
+    double column_double(int index) const;
+    std::string column_text(int index) const;
+    std::span<const std::byte> column_blob(int index) const;
+
+private:
+    void check(int rc, std::string_view context) const;
+
+    Connection* connection_;
+    sqlite3_stmt* stmt_ = nullptr;
+};
+
+/// A transaction that rolls back unless commit() is called. BEGIN IMMEDIATE,
+/// so a writer waits for others at the start rather than failing midway.
+class Transaction {
+public:
+    explicit Transaction(Connection& connection);
+    ~Transaction();
+    Transaction(const Transaction&) = delete;
+    Transaction& operator=(const Transaction&) = delete;
+
+    void commit();
+
+private:
+    Connection& connection_;
+    bool done_ = false;
+};
+
+}  // namespace stepstone::db

@@ -1,0 +1,217 @@
+#include "db/database.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <array>
+#include <cstdio>
+#include <fstream>
+#include <stdexcept>
+#include <system_error>
+
+#include "core/embedded.hpp"
+#include "core/error.hpp"
+#include "core/text.hpp"
+
+namespace stepstone::db {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr std::string_view kSqliteMagic{"SQLite format 3\0", 16};
+
+std::uint32_t read_be32(const unsigned char* p) {
+    return (std::uint32_t{p[0]} << 24) | (std::uint32_t{p[1]} << 16) | (std::uint32_t{p[2]} << 8) | p[3];
+}
+
+std::string hex32(std::uint32_t value) {
+    char buffer[16];
+    std::snprintf(buffer, sizeof buffer, "0x%08x", value);
+    return buffer;
+}
+
+// the checks that need no SQLite: the file exists, has the SQLite header and
+// our application id, and is not shorter than its header says
+void check_file_header(const fs::path& path) {
+    const std::string name = path.filename().string();
+    std::error_code ec;
+    const auto status = fs::status(path, ec);
+    if (ec || !fs::exists(status)) throw DatabaseError(concat(name, ": no such file"));
+    if (fs::is_directory(status)) throw DatabaseError(concat(name, ": is a directory, not a database"));
+
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw DatabaseError(concat(name, ": cannot read"));
+    std::array<unsigned char, 100> header{};
+    in.read(reinterpret_cast<char*>(header.data()), header.size());
+    const auto got = static_cast<std::size_t>(in.gcount());
+    if (got == 0) throw DatabaseError(concat(name, ": empty file, not a stepstone database"));
+    if (got < header.size() || std::string_view(reinterpret_cast<const char*>(header.data()), 16) != kSqliteMagic) {
+        throw DatabaseError(concat(name, ": not an SQLite database"));
+    }
+    const std::uint32_t app_id = read_be32(&header[68]);
+    if (app_id != kApplicationId) {
+        throw DatabaseError(concat(name, ": not a stepstone database (application_id ", hex32(app_id),
+                                   ", expected ", hex32(kApplicationId), ")"));
+    }
+
+    // the in-header page count is valid when the two change counters agree
+    std::uint32_t page_size = (std::uint32_t{header[16]} << 8) | header[17];
+    if (page_size == 1) page_size = 65536;
+    const std::uint32_t pages = read_be32(&header[28]);
+    const bool count_valid = read_be32(&header[24]) == read_be32(&header[92]);
+    const auto size = fs::file_size(path, ec);
+    fs::path wal = path;
+    wal += "-wal";
+    if (!ec && count_valid && pages > 0 && !fs::exists(wal)) {
+        const std::uintmax_t expected = std::uintmax_t{pages} * page_size;
+        if (size < expected) {
+            throw DatabaseError(concat(name, ": truncated database (", size, " of ", expected, " bytes)"));
+        }
+    }
+}
+
+int parse_version(std::string_view file_name) {
+    int version = 0;
+    std::size_t digits = 0;
+    while (digits < file_name.size() && file_name[digits] >= '0' && file_name[digits] <= '9') {
+        version = version * 10 + (file_name[digits] - '0');
+        ++digits;
+    }
+    if (digits != 4 || file_name.size() < 6 || file_name[4] != '_') {
+        throw std::logic_error(concat("schema/", file_name, ": migrations are named NNNN_name.sql"));
+    }
+    return version;
+}
+
+}  // namespace
+
+const std::vector<Migration>& migrations() {
+    static const std::vector<Migration> all = [] {
+        std::vector<Migration> list;
+        for (const auto& file : schema_files()) {
+            list.push_back({parse_version(file.path), std::string(file.path), file.text});
+        }
+        std::sort(list.begin(), list.end(), [](const auto& a, const auto& b) { return a.version < b.version; });
+        for (std::size_t i = 0; i < list.size(); ++i) {
+            if (list[i].version != static_cast<int>(i) + 1) {
+                throw std::logic_error(concat("schema/", list[i].name, ": expected migration ", i + 1));
+            }
+        }
+        return list;
+    }();
+    return all;
+}
+
+int latest_schema_version() { return static_cast<int>(migrations().size()); }
+
+std::string_view sql(std::string_view name) {
+    for (const auto& file : sql_files()) {
+        if (file.path == name) return file.text;
+    }
+    throw std::logic_error(concat("no embedded statement sql/", name));
+}
+
+DatabaseInfo database_info(Connection& connection) {
+    DatabaseInfo info;
+    info.application_id = static_cast<std::uint32_t>(connection.query_int("PRAGMA application_id").value_or(0));
+    info.schema_version = static_cast<int>(connection.query_int("PRAGMA user_version").value_or(0));
+    return info;
+}
+
+int migrate(Connection& connection) {
+    int applied = 0;
+    const int current = database_info(connection).schema_version;
+    for (const auto& migration : migrations()) {
+        if (migration.version <= current) continue;
+        Transaction transaction(connection);
+        connection.exec(migration.sql);
+        connection.exec(concat("PRAGMA user_version = ", migration.version));
+        transaction.commit();
+        ++applied;
+    }
+    return applied;
+}
+
+Connection open_database(const fs::path& path, OpenMode mode, bool allow_older) {
+    const std::string name = path.filename().string();
+    if (mode == OpenMode::create) {
+        if (fs::exists(path)) throw DatabaseError(concat(name, ": already exists"));
+        Connection connection(path, OpenMode::create);
+        // the stamp goes into the main file's header before WAL is on
+        connection.exec(concat("PRAGMA application_id = ", static_cast<std::int64_t>(kApplicationId)));
+        connection.exec("PRAGMA journal_mode = WAL; PRAGMA synchronous = NORMAL");
+        migrate(connection);
+        return connection;
+    }
+
+    check_file_header(path);
+    Connection connection(path, mode);
+    const DatabaseInfo info = database_info(connection);
+    const int latest = latest_schema_version();
+    if (info.schema_version > latest) {
+        throw DatabaseError(concat(name, ": schema version ", info.schema_version,
+                                   " is newer than this program (", latest, ")"));
+    }
+    if (mode == OpenMode::read_only) {
+        if (info.schema_version < latest && !allow_older) {
+            throw DatabaseError(concat(name, ": schema version ", info.schema_version, " is older than this program (",
+                                       latest, "); run: stepstone db migrate ", path.string()));
+        }
+        return connection;
+    }
+    connection.exec("PRAGMA journal_mode = WAL; PRAGMA synchronous = NORMAL");
+    migrate(connection);
+    return connection;
+}
+
+void check_output_path(const fs::path& path, bool force) {
+    if (fs::exists(path) && !force) {
+        throw ConfigError(concat(path.string(), ": already exists (use --force to overwrite)"));
+    }
+    if (fs::is_directory(path)) {
+        throw ConfigError(concat(path.string(), ": is a directory"));
+    }
+}
+
+namespace {
+
+fs::path temp_name_for(const fs::path& path) {
+    fs::path temp = path.parent_path() / concat('.', path.filename().string(), ".tmp-", ::getpid());
+    // a stale temp file from a crashed process with the same pid is ours to replace
+    std::error_code ec;
+    for (const char* suffix : {"", "-wal", "-shm", "-journal"}) {
+        fs::remove(fs::path(temp.string() + suffix), ec);
+    }
+    return temp;
+}
+
+}  // namespace
+
+OutputDatabase::OutputDatabase(const fs::path& path, bool force)
+    : path_((check_output_path(path, force), path)),
+      temp_(temp_name_for(path)),
+      connection_(open_database(temp_, OpenMode::create)) {}
+
+OutputDatabase::~OutputDatabase() {
+    if (committed_) return;
+    try {
+        connection_.close();
+    } catch (...) {
+    }
+    std::error_code ec;
+    for (const char* suffix : {"", "-wal", "-shm", "-journal"}) {
+        fs::remove(fs::path(temp_.string() + suffix), ec);
+    }
+}
+
+void OutputDatabase::commit() {
+    // closing the last connection checkpoints and removes the WAL file
+    connection_.close();
+    std::error_code ec;
+    fs::rename(temp_, path_, ec);
+    if (ec) throw DatabaseError(concat(path_.string(), ": cannot move the output into place: ", ec.message()));
+    committed_ = true;
+}
+
+}  // namespace stepstone::db

@@ -1,0 +1,82 @@
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "db/connection.hpp"
+
+namespace stepstone::db {
+
+/// PRAGMA application_id of every stepstone database: "STPS" in ASCII.
+inline constexpr std::uint32_t kApplicationId = 0x53545053;
+
+/// The schema version this program writes: the number of the last migration
+/// in schema/.
+int latest_schema_version();
+
+/// One numbered migration of schema/.
+struct Migration {
+    int version;
+    std::string name;       ///< file name, e.g. "0001_init.sql"
+    std::string_view sql;
+};
+
+/// The migrations embedded in the binary, in order. Numbers run 1, 2, ... with
+/// no gap (checked here; a gap is a build error caught by the tests).
+const std::vector<Migration>& migrations();
+
+/// The text of a statement of sql/, e.g. sql("db/meta_get.sql"). Throws
+/// std::logic_error for an unknown name (a bug, not a user error).
+std::string_view sql(std::string_view name);
+
+/// What a stepstone database file says about itself.
+struct DatabaseInfo {
+    std::uint32_t application_id = 0;
+    int schema_version = 0;
+};
+
+/// Opens a stepstone database after checking, before anything is written,
+/// that the file is SQLite, carries kApplicationId and has a schema version
+/// this program knows. OpenMode::create makes a new file (refused if `path`
+/// exists) and applies every migration; read_write migrates an older file;
+/// read_only refuses an older file (run `stepstone db migrate`) unless
+/// `allow_older` (for inspection). Throws
+/// DatabaseError with a one-line message naming the file; the file is then
+/// left byte for byte as it was.
+Connection open_database(const std::filesystem::path& path, OpenMode mode, bool allow_older = false);
+
+/// Applies the migrations newer than the file's version, each in its own
+/// transaction. Returns the number applied.
+int migrate(Connection& connection);
+
+/// Application id and schema version of an open connection.
+DatabaseInfo database_info(Connection& connection);
+
+/// A new database written under a temporary name in the target's folder and
+/// renamed over `path` by commit(): a crash or an exception leaves no partial
+/// output. An existing `path` is refused unless `force`.
+class OutputDatabase {
+public:
+    OutputDatabase(const std::filesystem::path& path, bool force);
+    ~OutputDatabase();
+    OutputDatabase(const OutputDatabase&) = delete;
+    OutputDatabase& operator=(const OutputDatabase&) = delete;
+
+    Connection& connection() { return connection_; }
+    /// Closes the connection and moves the file into place.
+    void commit();
+
+private:
+    std::filesystem::path path_;
+    std::filesystem::path temp_;
+    Connection connection_;
+    bool committed_ = false;
+};
+
+/// Refuses (ConfigError) an existing output path unless `force`.
+void check_output_path(const std::filesystem::path& path, bool force);
+
+}  // namespace stepstone::db

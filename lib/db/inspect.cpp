@@ -1,0 +1,32 @@
+#include "db/inspect.hpp"
+
+#include "db/database.hpp"
+
+namespace stepstone::db {
+
+std::vector<TableCount> table_counts(Connection& connection) {
+    std::vector<TableCount> tables;
+    auto list = connection.prepare(sql("db/list_tables.sql"));
+    while (list.step()) tables.push_back({list.column_text(0), 0});
+    for (auto& table : tables) {
+        // the name comes from sqlite_schema; quoting keeps odd names safe
+        std::string quoted = "\"";
+        for (char c : table.name) quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
+        quoted += '"';
+        table.rows = connection.query_int("SELECT count(*) FROM " + quoted).value_or(0);
+    }
+    return tables;
+}
+
+std::string meta_value(Connection& connection, std::string_view key) {
+    auto get = connection.prepare(sql("db/meta_get.sql"));
+    get.bind(1, key);
+    return get.step() ? get.column_text(0) : std::string();
+}
+
+void set_meta_value(Connection& connection, std::string_view key, std::string_view value) {
+    auto set = connection.prepare(sql("db/meta_set.sql"));
+    set.bind(1, key).bind(2, value).run();
+}
+
+}  // namespace stepstone::db

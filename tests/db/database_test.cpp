@@ -1,0 +1,130 @@
+#include <catch2/catch.hpp>
+
+#include <functional>
+
+#include "core/error.hpp"
+#include "db/database.hpp"
+#include "db/inspect.hpp"
+#include "support/db_files.hpp"
+#include "support/temp_dir.hpp"
+
+using namespace stepstone;
+using Catch::Matchers::Contains;
+
+TEST_CASE("migrations are numbered 1, 2, ... with no gap", "[db][migrate]") {
+    const auto& list = db::migrations();
+    REQUIRE(!list.empty());
+    for (std::size_t i = 0; i < list.size(); ++i) CHECK(list[i].version == static_cast<int>(i) + 1);
+    CHECK(db::latest_schema_version() == static_cast<int>(list.size()));
+}
+
+TEST_CASE("a new database is stamped and migrated to the latest version", "[db][migrate]") {
+    test::TempDir dir;
+    auto connection = db::open_database(dir / "new.db", db::OpenMode::create);
+    const auto info = db::database_info(connection);
+    CHECK(info.application_id == db::kApplicationId);
+    CHECK(info.schema_version == db::latest_schema_version());
+    CHECK(connection.query_int("PRAGMA foreign_keys") == 1);
+    db::set_meta_value(connection, "a", "b");
+    CHECK(db::meta_value(connection, "a") == "b");
+    CHECK_THROWS_WITH(db::open_database(dir / "new.db", db::OpenMode::create), Contains("new.db: already exists"));
+}
+
+TEST_CASE("an old stepstone database is migrated in place, refused read-only", "[db][migrate]") {
+    test::TempDir dir;
+    test::make_old_stepstone(dir / "old.db");
+    CHECK_THROWS_WITH(db::open_database(dir / "old.db", db::OpenMode::read_only),
+                      Contains("is older than this program"));
+    {
+        auto connection = db::open_database(dir / "old.db", db::OpenMode::read_write);
+        CHECK(db::database_info(connection).schema_version == db::latest_schema_version());
+    }
+    auto connection = db::open_database(dir / "old.db", db::OpenMode::read_only);
+    CHECK(db::table_counts(connection).size() >= 1);
+}
+
+TEST_CASE("a transaction rolls back when an exception escapes", "[db][transaction]") {
+    test::TempDir dir;
+    auto connection = db::open_database(dir / "t.db", db::OpenMode::create);
+    try {
+        db::Transaction transaction(connection);
+        db::set_meta_value(connection, "lost", "1");
+        throw std::runtime_error("boom");
+    } catch (const std::runtime_error&) {
+    }
+    CHECK(db::meta_value(connection, "lost").empty());
+    {
+        db::Transaction transaction(connection);
+        db::set_meta_value(connection, "kept", "1");
+        transaction.commit();
+    }
+    CHECK(db::meta_value(connection, "kept") == "1");
+}
+
+TEST_CASE("foreign, newer, corrupt and non-database files are refused and left unchanged", "[db][errors]") {
+    test::TempDir dir;
+    struct Case {
+        const char* name;
+        std::function<void(const std::filesystem::path&)> make;
+        const char* message;
+    };
+    const std::vector<Case> cases = {
+        {"text.db", [](const auto& p) { test::write_file(p, "root:x:0:0:root:/root:/bin/bash\n"); },
+         "text.db: not an SQLite database"},
+        {"empty.db", [](const auto& p) { test::write_file(p, ""); }, "empty.db: empty file, not a stepstone database"},
+        {"foreign.db", test::make_foreign_sqlite, "foreign.db: not a stepstone database (application_id 0x00000000"},
+        {"newer.db", test::make_newer_stepstone, "newer.db: schema version"},
+        {"truncated.db", test::make_truncated_stepstone, "truncated.db: truncated database"},
+    };
+    for (const auto& c : cases) {
+        SECTION(c.name) {
+            const auto path = dir / c.name;
+            c.make(path);
+            const std::string before = test::read_file(path);
+            for (auto mode : {db::OpenMode::read_only, db::OpenMode::read_write}) {
+                try {
+                    db::open_database(path, mode);
+                    FAIL("no exception for " << c.name);
+                } catch (const DatabaseError& e) {
+                    const std::string what = e.what();
+                    CHECK_THAT(what, Contains(c.message));
+                    CHECK(what.find('\n') == std::string::npos);
+                }
+            }
+            CHECK(test::read_file(path) == before);
+        }
+    }
+    CHECK_THROWS_WITH(db::open_database(dir / "absent.db", db::OpenMode::read_only), Contains("absent.db: no such file"));
+}
+
+TEST_CASE("a newer schema is named with both versions", "[db][errors]") {
+    test::TempDir dir;
+    test::make_newer_stepstone(dir / "n.db");
+    const int latest = db::latest_schema_version();
+    CHECK_THROWS_WITH(db::open_database(dir / "n.db", db::OpenMode::read_only),
+                      Contains("schema version " + std::to_string(latest + 1) + " is newer than this program (" +
+                               std::to_string(latest) + ")"));
+}
+
+TEST_CASE("an output database appears only when committed", "[db][output]") {
+    test::TempDir dir;
+    const auto out = dir / "out.db";
+    {
+        db::OutputDatabase output(out, false);
+        db::set_meta_value(output.connection(), "x", "1");
+        // not committed: nothing may be left, not even the temporary file
+    }
+    CHECK(!std::filesystem::exists(out));
+    CHECK(std::filesystem::is_empty(dir.path()));
+    {
+        db::OutputDatabase output(out, false);
+        db::set_meta_value(output.connection(), "x", "1");
+        output.commit();
+    }
+    REQUIRE(std::filesystem::exists(out));
+    CHECK(!std::filesystem::exists(dir / "out.db-wal"));
+    auto connection = db::open_database(out, db::OpenMode::read_only);
+    CHECK(db::meta_value(connection, "x") == "1");
+    CHECK_THROWS_WITH(db::OutputDatabase(out, false), Contains("out.db: already exists (use --force to overwrite)"));
+    CHECK_NOTHROW(db::OutputDatabase(out, true));
+}
