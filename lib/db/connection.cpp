@@ -69,6 +69,16 @@ void Connection::exec(std::string_view sql) {
 
 Statement Connection::prepare(std::string_view sql) { return Statement(*this, sql); }
 
+std::vector<Statement> Connection::prepare_all(std::string_view sql) {
+    std::vector<Statement> statements;
+    while (!sql.empty()) {
+        Statement statement(*this, sql, &sql);
+        // comments and whitespace after the last statement prepare to nothing
+        if (!statement.empty()) statements.push_back(std::move(statement));
+    }
+    return statements;
+}
+
 std::optional<std::int64_t> Connection::query_int(std::string_view sql) {
     Statement statement(*this, sql);
     if (!statement.step() || statement.is_null(0)) return std::nullopt;
@@ -79,13 +89,17 @@ std::int64_t Connection::last_insert_rowid() const { return sqlite3_last_insert_
 
 // ----------------------------------------------------------------- Statement
 
-Statement::Statement(Connection& connection, std::string_view sql) : connection_(&connection) {
+Statement::Statement(Connection& connection, std::string_view sql) : Statement(connection, sql, nullptr) {}
+
+Statement::Statement(Connection& connection, std::string_view sql, std::string_view* rest)
+    : connection_(&connection) {
     const char* tail = nullptr;
     if (sqlite3_prepare_v3(connection.handle(), sql.data(), static_cast<int>(sql.size()),
                            SQLITE_PREPARE_PERSISTENT, &stmt_, &tail) != SQLITE_OK) {
         connection.fail("cannot prepare statement");
     }
-    if (!stmt_) {
+    if (rest) *rest = sql.substr(static_cast<std::size_t>(tail - sql.data()));
+    if (!stmt_ && !rest) {
         throw DatabaseError(concat(connection.name(), ": empty statement"));
     }
 }
@@ -160,6 +174,16 @@ void Statement::reset() {
 int Statement::column_count() const { return sqlite3_column_count(stmt_); }
 
 std::string Statement::column_name(int index) const { return sqlite3_column_name(stmt_, index); }
+
+Statement::Type Statement::column_type(int index) const {
+    switch (sqlite3_column_type(stmt_, index)) {
+        case SQLITE_INTEGER: return Type::integer;
+        case SQLITE_FLOAT: return Type::real;
+        case SQLITE_TEXT: return Type::text;
+        case SQLITE_BLOB: return Type::blob;
+        default: return Type::null;
+    }
+}
 
 bool Statement::is_null(int index) const { return sqlite3_column_type(stmt_, index) == SQLITE_NULL; }
 

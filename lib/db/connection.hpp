@@ -7,6 +7,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <vector>
 
 struct sqlite3;
 struct sqlite3_stmt;
@@ -40,6 +41,8 @@ public:
     void exec(std::string_view sql);
     /// Prepares one statement.
     Statement prepare(std::string_view sql);
+    /// Prepares every statement of a text holding several, in order.
+    std::vector<Statement> prepare_all(std::string_view sql);
     /// The single value of a one-row, one-column query (nullopt if no row or NULL).
     std::optional<std::int64_t> query_int(std::string_view sql);
 
@@ -66,6 +69,8 @@ private:
 class Statement {
 public:
     Statement(Connection& connection, std::string_view sql);
+    /// Prepares the first statement of `sql`; `*rest` receives what follows it.
+    Statement(Connection& connection, std::string_view sql, std::string_view* rest);
     ~Statement();
     Statement(Statement&& other) noexcept;
     Statement& operator=(Statement&&) = delete;
@@ -82,6 +87,8 @@ public:
     /// Index of a named parameter (":name"); throws if the statement has none.
     int parameter(std::string_view name) const;
     int parameter_count() const;
+    /// True for a text that held only comments or white space.
+    bool empty() const { return stmt_ == nullptr; }
 
     /// Advances; true while a row is available.
     bool step();
@@ -92,6 +99,9 @@ public:
 
     int column_count() const;
     std::string column_name(int index) const;
+    /// The storage class of a column of the current row.
+    enum class Type { integer, real, text, blob, null };
+    Type column_type(int index) const;
     bool is_null(int index) const;
     std::int64_t column_int(int index) const;
     double column_double(int index) const;

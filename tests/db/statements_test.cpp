@@ -12,7 +12,7 @@ TEST_CASE("every statement of sql/ prepares against a freshly migrated database"
     REQUIRE(!sql_files().empty());
     for (const auto& file : sql_files()) {
         INFO(file.path);
-        CHECK_NOTHROW(connection.prepare(file.text));
+        CHECK(!connection.prepare_all(file.text).empty());
     }
 }
 
@@ -21,7 +21,7 @@ TEST_CASE("every query of queries/ prepares against a freshly migrated database"
     auto connection = db::open_database(dir / "fresh.db", db::OpenMode::create);
     for (const auto& file : query_files()) {
         INFO(file.path);
-        CHECK_NOTHROW(connection.prepare(file.text));
+        CHECK(!connection.prepare_all(file.text).empty());
     }
 }
 

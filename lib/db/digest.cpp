@@ -1,0 +1,89 @@
+#include "db/digest.hpp"
+
+#include <xxhash.h>
+
+#include <cstdio>
+#include <string_view>
+
+#include "db/database.hpp"
+
+namespace stepstone::db {
+
+namespace {
+
+// each field enters the hash as a type tag then its bytes (text with its
+// length), so ("ab", "c") and ("a", "bc"), or 1 and "1", never collide
+class Hasher {
+public:
+    Hasher() : state_(XXH3_createState()) { XXH3_128bits_reset(state_); }
+    ~Hasher() { XXH3_freeState(state_); }
+    Hasher(const Hasher&) = delete;
+    Hasher& operator=(const Hasher&) = delete;
+
+    void bytes(const void* data, std::size_t size) { XXH3_128bits_update(state_, data, size); }
+    void tag(char t) { bytes(&t, 1); }
+    void text(std::string_view s) {
+        const std::uint64_t size = s.size();
+        bytes(&size, sizeof size);
+        bytes(s.data(), s.size());
+    }
+
+    void row(const Statement& statement) {
+        tag('R');
+        for (int c = 0; c < statement.column_count(); ++c) {
+            switch (statement.column_type(c)) {
+                case Statement::Type::integer: {
+                    tag('I');
+                    const std::int64_t v = statement.column_int(c);
+                    bytes(&v, sizeof v);
+                    break;
+                }
+                case Statement::Type::real: {
+                    tag('F');
+                    const double v = statement.column_double(c);
+                    bytes(&v, sizeof v);
+                    break;
+                }
+                case Statement::Type::blob: {
+                    tag('B');
+                    const auto blob = statement.column_blob(c);
+                    text(std::string_view(reinterpret_cast<const char*>(blob.data()), blob.size()));
+                    break;
+                }
+                case Statement::Type::text:
+                    tag('T');
+                    text(statement.column_text(c));
+                    break;
+                case Statement::Type::null:
+                    tag('N');
+                    break;
+            }
+        }
+    }
+
+    std::string hex() const {
+        const XXH128_hash_t h = XXH3_128bits_digest(state_);
+        char buffer[33];
+        std::snprintf(buffer, sizeof buffer, "%016llx%016llx", static_cast<unsigned long long>(h.high64),
+                      static_cast<unsigned long long>(h.low64));
+        return buffer;
+    }
+
+private:
+    XXH3_state_t* state_;
+};
+
+}  // namespace
+
+std::string run_digest(Connection& connection) {
+    Hasher hasher;
+    // every query names its columns and a total order, so the digest does
+    // not depend on how SQLite laid the rows out
+    for (auto& statement : connection.prepare_all(sql("run/digest_queries.sql"))) {
+        hasher.tag('Q');
+        while (statement.step()) hasher.row(statement);
+    }
+    return hasher.hex();
+}
+
+}  // namespace stepstone::db

@@ -1,0 +1,1 @@
+INSERT OR IGNORE INTO genome (run_id, individual_id, genome) VALUES (:run_id, :individual_id, :genome)

@@ -1,0 +1,1 @@
+SELECT generation, state FROM checkpoint WHERE run_id = :run_id

@@ -1,0 +1,36 @@
+#include <catch2/catch.hpp>
+
+#include "db/database.hpp"
+#include "db/digest.hpp"
+#include "support/temp_dir.hpp"
+
+using namespace stepstone;
+
+namespace {
+
+// a run with two individuals, inserted in the given order, with a given wall time
+std::string digest_of(const std::filesystem::path& path, bool reversed, double wall_time, double reward = 0.25) {
+    auto connection = db::open_database(path, db::OpenMode::create);
+    connection.exec(
+        "INSERT INTO run (id, task, seed, config, status, generations, program_version, created) "
+        "VALUES (1, 'source', 7, '{}', 'finished', 1, 'x', 'now')");
+    connection.exec("INSERT INTO generation VALUES (1, 0, 0.25, 0.1, 0.1, '[2]', 1.0, 2.0, 2, " +
+                    std::to_string(wall_time) + ")");
+    const std::string a = "INSERT INTO individual VALUES (1, 1, 0, NULL, " + std::to_string(reward) +
+                          ", 0.25, 3.5, NULL, 6, 12000)";
+    const std::string b = "INSERT INTO individual VALUES (1, 2, 0, NULL, 0.0, 0.0, 3.5, NULL, 0, 101)";
+    connection.exec(reversed ? b + ";" + a : a + ";" + b);
+    return db::run_digest(connection);
+}
+
+}  // namespace
+
+TEST_CASE("the run digest ignores row order and timings but not results", "[db][digest]") {
+    test::TempDir dir;
+    const auto base = digest_of(dir / "a.db", false, 1.0);
+    CHECK(base.size() == 32);
+    // same content inserted in another order, another wall time and date
+    CHECK(digest_of(dir / "b.db", true, 99.0) == base);
+    // one objective differs
+    CHECK(digest_of(dir / "c.db", false, 1.0, 0.5) != base);
+}
