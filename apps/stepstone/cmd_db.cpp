@@ -7,6 +7,7 @@
 
 #include "commands.hpp"
 #include "db/database.hpp"
+#include "db/digest.hpp"
 #include "db/inspect.hpp"
 
 namespace stepstone::app {
@@ -62,14 +63,16 @@ void run_db_migrate(const std::string& file) {
     }
 }
 
-}  // namespace
-
-namespace {
+void run_db_digest(const std::string& file) {
+    auto connection = db::open_database(file, db::OpenMode::read_only);
+    std::cout << db::run_digest(connection) << '\n';
+}
 
 void add_db_command(CLI::App& app) {
     auto* db_cmd = app.add_subcommand("db", "Inspect and upgrade stepstone database files");
     db_cmd->require_subcommand(1);
-    db_cmd->footer(example({"stepstone db info run.db --json", "stepstone db migrate old_run.db"}));
+    db_cmd->footer(example({"stepstone db info run.db --json", "stepstone db migrate old_run.db",
+                            "stepstone db digest run.db"}));
 
     auto info_options = std::make_shared<DbInfoOptions>();
     auto* info = db_cmd->add_subcommand("info", "Print the application id, schema version and row counts of a database");
@@ -84,6 +87,13 @@ void add_db_command(CLI::App& app) {
         ->required();
     migrate->footer(example({"stepstone db migrate run.db"}));
     migrate->callback([file] { run_db_migrate(*file); });
+
+    auto digest_file = std::make_shared<std::string>();
+    auto* digest = db_cmd->add_subcommand(
+        "digest", "Print a hex digest of a run's scientific content (no timings): equal digests, equal runs");
+    digest->add_option("file", *digest_file, "A run database (opened read-only)")->required();
+    digest->footer(example({"stepstone db digest run.db"}));
+    digest->callback([digest_file] { run_db_digest(*digest_file); });
 }
 
 const CommandRegistrar registrar(90, add_db_command);

@@ -16,10 +16,6 @@ void run_demo() {
               << "  commands: db info, db migrate\n";
 }
 
-}  // namespace
-
-namespace {
-
 void add_demo_command(CLI::App& app) {
     auto* demo = app.add_subcommand("demo", "Run the main job end to end on small settings");
     demo->footer(example({"stepstone demo"}));
