@@ -1,0 +1,57 @@
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <unordered_map>
+#include <vector>
+
+#include "evo/edit_distance.hpp"
+
+namespace stepstone::evo {
+
+/// The behavioural diversity objective of collectball (ORIGINAL.md 5.4): the
+/// full symmetric matrix of edit distances between the trajectories of the
+/// mixed population, and each individual's sum of distances to all others.
+///
+/// Distances are cached by individual id: update() computes only the pairs
+/// involving an id that was not in the previous update (in NSGA-II, the
+/// parents are survivors of the previous mixed population, so only pairs
+/// with a child are new). The cache never changes a result: the distance is
+/// a pure function of the two trajectories, so a resumed run that starts
+/// with an empty cache gets the same values. New pairs are computed
+/// kLanes at a time on `threads` threads, each result written to its slot,
+/// so the values do not depend on the thread count.
+class DiversityMatrix {
+public:
+    /// Makes `ids` (unique) the current population with their trajectories
+    /// (all of one length). Throws DataError on a repeated id, on sizes that
+    /// differ, or on trajectories of different lengths. threads = 0 means 1.
+    void update(std::span<const std::uint64_t> ids, std::span<const Trajectory> trajectories,
+                unsigned threads = 1);
+
+    /// Population size of the last update.
+    std::size_t size() const { return ids_.size(); }
+    /// d(i, j) between positions of the last update (0 on the diagonal).
+    float distance(std::size_t i, std::size_t j) const { return matrix_[i * ids_.size() + j]; }
+    /// Sum over j != i of d(i, j), in double and in index order: obj[1] of collectball.
+    std::vector<double> sums() const;
+    /// Pairs computed (not reused) by the last update.
+    std::size_t computed_pairs() const { return computed_pairs_; }
+    /// Forgets every cached distance.
+    void clear();
+
+private:
+    std::vector<std::uint64_t> ids_;
+    std::vector<float> matrix_;
+    std::size_t computed_pairs_ = 0;
+};
+
+/// The full distance matrix (row-major, n x n) of `trajectories`, every pair
+/// computed with EditDistanceBatch on `threads` threads (0 means 1).
+std::vector<float> distance_matrix(std::span<const Trajectory> trajectories, unsigned threads = 1);
+
+/// Row sums of an n x n matrix in double, in index order, skipping the diagonal.
+std::vector<double> distance_sums(std::span<const float> matrix, std::size_t n);
+
+}  // namespace stepstone::evo

@@ -1,0 +1,53 @@
+#pragma once
+
+#include <cstddef>
+#include <list>
+
+#include "nn/dnn_config.hpp"
+#include "nn/genome.hpp"
+
+namespace stepstone::nn {
+
+/// A plain evaluation of the genome graph in nn2's manner (ORIGINAL.md 6.8,
+/// 8.4): one heap node per neuron in a linked list, each holding a linked list
+/// of incoming edges that point to their source node, walked every step.
+///
+/// With `exact_exp` false it uses the same float sigmoid as Network and must
+/// equal it bit for bit (the tests' oracle). With `exact_exp` true it computes
+/// the sigmoid with std::exp in double, as nn2 does: the baseline that
+/// `stepstone bench` times Network against.
+class ReferenceNetwork {
+public:
+    ReferenceNetwork(const Genome& genome, const DnnConfig& config, bool exact_exp = false);
+    ReferenceNetwork(const ReferenceNetwork&) = delete;
+    ReferenceNetwork& operator=(const ReferenceNetwork&) = delete;
+
+    /// Sets every neuron state to 0.
+    void reset();
+    /// One synchronous update, same contract as Network::step.
+    void step(const float* inputs, float* outputs);
+
+private:
+    struct Node;
+    struct Edge {
+        const Node* source;
+        float weight;
+    };
+    struct Node {
+        NeuronKind kind;
+        float scaled_bias;
+        float state = 0.0f;
+        float next = 0.0f;
+        std::list<Edge> in_edges;
+    };
+
+    std::list<Node> nodes_;
+    bool exact_exp_;
+};
+
+/// Float weight of a connection gene, as both networks round it.
+float developed_weight(double gene, const DnnConfig& config);
+/// Float bias_scale * developed bias, as both networks round it.
+float developed_scaled_bias(double gene, const DnnConfig& config);
+
+}  // namespace stepstone::nn
