@@ -1,0 +1,199 @@
+#include "sim/arena.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/assert.hpp"
+#include "sim/units.hpp"
+
+namespace stepstone::sim {
+
+namespace {
+
+// the bitmap is 296 px for 600 units; pixel i covers [(i - 0.5) s, (i + 0.5) s)
+constexpr double kUnitsPerPixel = 600.0 / 296.0;
+
+constexpr WallBox pixel_box(int px0, int px1, int py0, int py1, std::string_view name) {
+    return WallBox{(px0 - 0.5) * kUnitsPerPixel, (py0 - 0.5) * kUnitsPerPixel, (px1 + 0.5) * kUnitsPerPixel,
+                   (py1 + 0.5) * kUnitsPerPixel, name};
+}
+
+// pixel ranges of arena2.pbm / arena2b.pbm (ORIGINAL.md 1.2), inclusive; the
+// door comes last so the open arena is the closed one minus its last box
+constexpr std::array<WallBox, 11> kWalls{{
+    pixel_box(0, 4, 0, 197, "outer left"),
+    pixel_box(291, 295, 0, 197, "outer right"),
+    pixel_box(0, 295, 0, 4, "outer top"),
+    pixel_box(0, 295, 195, 197, "bottom"),
+    pixel_box(100, 102, 5, 126, "divider above the door"),
+    pixel_box(100, 102, 174, 194, "divider below the door"),
+    pixel_box(100, 223, 99, 101, "horizontal wall, left part"),
+    pixel_box(270, 295, 99, 101, "horizontal wall, right part"),
+    pixel_box(196, 198, 102, 126, "upper stub"),
+    pixel_box(196, 198, 174, 194, "lower stub"),
+    pixel_box(100, 102, 127, 173, "door"),
+}};
+
+// an empty slot: a box far away that no ray, segment or disc can reach
+constexpr double kFar = 1e7;
+
+double clamp(double v, double lo, double hi) { return v < lo ? lo : (v > hi ? hi : v); }
+
+// a direction component of exactly 0 would make 0 * inf = NaN in the slab test
+double safe_inverse(double d) { return 1.0 / (d == 0.0 ? 1e-300 : d); }
+
+// the bearing range [lo, hi] (radians, relative to `reference`) under which
+// the centre sees the part of the box inside the disc; extremes of a convex
+// region are at its vertices: box corners in the disc and edge/circle crossings
+void overlap_bearings(const WallBox& box, double cx, double cy, double reference, double& lo, double& hi) {
+    const double r2 = kRobotRadius * kRobotRadius;
+    lo = 0.0;
+    hi = 0.0;
+    auto consider = [&](double px, double py) {
+        const double rel = normalize_angle(std::atan2(py - cy, px - cx) - reference);
+        lo = std::min(lo, rel);
+        hi = std::max(hi, rel);
+    };
+    const double xs[2] = {box.x0, box.x1};
+    const double ys[2] = {box.y0, box.y1};
+    for (double x : xs) {
+        for (double y : ys) {
+            if ((x - cx) * (x - cx) + (y - cy) * (y - cy) < r2) consider(x, y);
+        }
+    }
+    for (double x : xs) {  // vertical edges
+        const double h2 = r2 - (x - cx) * (x - cx);
+        if (h2 <= 0.0) continue;
+        const double h = std::sqrt(h2);
+        for (double y : {cy - h, cy + h}) {
+            if (y >= box.y0 && y <= box.y1) consider(x, y);
+        }
+    }
+    for (double y : ys) {  // horizontal edges
+        const double h2 = r2 - (y - cy) * (y - cy);
+        if (h2 <= 0.0) continue;
+        const double h = std::sqrt(h2);
+        for (double x : {cx - h, cx + h}) {
+            if (x >= box.x0 && x <= box.x1) consider(x, y);
+        }
+    }
+}
+
+// true when the bearing interval [lo, hi] (radians, any winding) meets the open interval (a, b)
+bool meets(double lo, double hi, double a, double b) {
+    for (double shift : {-2.0 * kPi, 0.0, 2.0 * kPi}) {
+        if (lo + shift < b && hi + shift > a) return true;
+    }
+    return false;
+}
+
+}  // namespace
+
+Arena::Arena() {
+    wall_count_ = static_cast<int>(kWalls.size());
+    door_index_ = wall_count_ - 1;
+    std::copy(kWalls.begin(), kWalls.end(), walls_.begin());
+    for (int i = 0; i < kSlots; ++i) {
+        const auto k = static_cast<std::size_t>(i);
+        const bool real = i < wall_count_;
+        const WallBox far{kFar, kFar, kFar + 1.0, kFar + 1.0, "empty"};
+        const WallBox& box = real ? walls_[k] : far;
+        closed_.x0[k] = box.x0;
+        closed_.y0[k] = box.y0;
+        closed_.x1[k] = box.x1;
+        closed_.y1[k] = box.y1;
+        const WallBox& open_box = (real && i != door_index_) ? box : far;
+        open_.x0[k] = open_box.x0;
+        open_.y0[k] = open_box.y0;
+        open_.x1[k] = open_box.x1;
+        open_.y1[k] = open_box.y1;
+    }
+}
+
+double Arena::ray_distance(double x, double y, double dx, double dy, double range, bool door_open) const {
+    const Slots& s = slots(door_open);
+    const double ix = safe_inverse(dx);
+    const double iy = safe_inverse(dy);
+    double best = range;
+    bool hit = false;
+    // slab test on every slot: entry = latest slab entry, exit = earliest slab exit
+    for (int i = 0; i < kSlots; ++i) {
+        const auto k = static_cast<std::size_t>(i);
+        const double tx0 = (s.x0[k] - x) * ix;
+        const double tx1 = (s.x1[k] - x) * ix;
+        const double ty0 = (s.y0[k] - y) * iy;
+        const double ty1 = (s.y1[k] - y) * iy;
+        const double enter = std::max(std::min(tx0, tx1), std::min(ty0, ty1));
+        const double leave = std::min(std::max(tx0, tx1), std::max(ty0, ty1));
+        const double t = std::max(enter, 0.0);
+        const bool closer = enter <= leave && leave >= 0.0 && t <= best;
+        best = closer ? t : best;
+        hit = hit || closer;
+    }
+    return hit ? best : -1.0;
+}
+
+bool Arena::segment_blocked(double x0, double y0, double x1, double y1, bool door_open) const {
+    const Slots& s = slots(door_open);
+    const double ix = safe_inverse(x1 - x0);
+    const double iy = safe_inverse(y1 - y0);
+    bool blocked = false;
+    for (int i = 0; i < kSlots; ++i) {
+        const auto k = static_cast<std::size_t>(i);
+        const double tx0 = (s.x0[k] - x0) * ix;
+        const double tx1 = (s.x1[k] - x0) * ix;
+        const double ty0 = (s.y0[k] - y0) * iy;
+        const double ty1 = (s.y1[k] - y0) * iy;
+        const double enter = std::max(std::min(tx0, tx1), std::min(ty0, ty1));
+        const double leave = std::min(std::max(tx0, tx1), std::max(ty0, ty1));
+        blocked = blocked || (enter <= leave && leave >= 0.0 && enter <= 1.0);
+    }
+    return blocked;
+}
+
+bool Arena::disc_overlaps(double x, double y, bool door_open) const {
+    const Slots& s = slots(door_open);
+    const double r2 = kRobotRadius * kRobotRadius;
+    bool overlap = false;
+    // squared distance from the centre to the closest point of each box
+    for (int i = 0; i < kSlots; ++i) {
+        const auto k = static_cast<std::size_t>(i);
+        const double dx = clamp(x, s.x0[k], s.x1[k]) - x;
+        const double dy = clamp(y, s.y0[k], s.y1[k]) - y;
+        overlap = overlap || dx * dx + dy * dy < r2;
+    }
+    return overlap;
+}
+
+Contact Arena::contact(const Pose& pose, bool door_open) const {
+    Contact result;
+    if (!disc_overlaps(pose.x, pose.y, door_open)) return result;
+    result.hit = true;
+    const double r2 = kRobotRadius * kRobotRadius;
+    for (int i = 0; i < wall_count_; ++i) {
+        if (door_open && i == door_index_) continue;
+        const WallBox& box = walls_[static_cast<std::size_t>(i)];
+        const double px = clamp(pose.x, box.x0, box.x1);
+        const double py = clamp(pose.y, box.y0, box.y1);
+        const double d2 = (px - pose.x) * (px - pose.x) + (py - pose.y) * (py - pose.y);
+        if (d2 >= r2) continue;
+
+        // a centre inside a wall sees it all around
+        if (d2 == 0.0) {
+            result.left = result.right = true;
+            continue;
+        }
+
+        // the closest point's bearing lies inside the overlap's bearing range
+        const double closest = std::atan2(py - pose.y, px - pose.x);
+        double lo = 0.0;
+        double hi = 0.0;
+        overlap_bearings(box, pose.x, pose.y, closest, lo, hi);
+        const double base = normalize_angle(closest - pose.heading);
+        result.left = result.left || meets(base + lo, base + hi, 0.0, kPi / 2);
+        result.right = result.right || meets(base + lo, base + hi, -kPi / 2, 0.0);
+    }
+    return result;
+}
+
+}  // namespace stepstone::sim

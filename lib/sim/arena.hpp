@@ -1,0 +1,71 @@
+#pragma once
+
+#include <array>
+#include <span>
+#include <string_view>
+
+#include "sim/robot.hpp"
+
+namespace stepstone::sim {
+
+/// An axis-aligned wall box [x0, x1) x [y0, y1), in units.
+struct WallBox {
+    double x0 = 0.0;
+    double y0 = 0.0;
+    double x1 = 0.0;
+    double y1 = 0.0;
+    std::string_view name;
+};
+
+/// Result of testing the robot disc against the walls.
+struct Contact {
+    bool hit = false;    ///< the disc overlaps a wall
+    bool left = false;   ///< some overlapping wall lies at a bearing in (0, pi/2): input 9
+    bool right = false;  ///< some overlapping wall lies at a bearing in (-pi/2, 0): input 10
+};
+
+/// The walls of the original arena (ORIGINAL.md 1.2), decoded from the
+/// 296 x 296 px bitmap: pixel i covers [(i - 0.5) 600/296, (i + 0.5) 600/296).
+/// Immutable; every query is const, allocation-free and thread-safe.
+///
+/// This is the hot-path geometry: the walls are kept in padded arrays (12 slots,
+/// the door's slot replaced by an unreachable box when it is open) so every
+/// query is a fixed-length loop of slab or clamp tests. ReferenceWorld
+/// (sim/world.hpp) answers the same queries with Box2D.
+class Arena {
+public:
+    /// Number of slots in the padded arrays.
+    static constexpr int kSlots = 12;
+
+    Arena();
+
+    /// Every wall, the door included (its index is door_index()).
+    std::span<const WallBox> walls() const { return {walls_.data(), static_cast<std::size_t>(wall_count_)}; }
+    /// Index of the door box in walls(); the door is a wall only while closed.
+    int door_index() const { return door_index_; }
+
+    /// Distance in units from (x, y) along the unit direction (dx, dy) to the
+    /// first wall, or -1 when no wall lies within `range`.
+    double ray_distance(double x, double y, double dx, double dy, double range, bool door_open) const;
+    /// True when a wall crosses the segment from (x0, y0) to (x1, y1).
+    bool segment_blocked(double x0, double y0, double x1, double y1, bool door_open) const;
+    /// True when the robot disc (kRobotRadius) centred at (x, y) overlaps a wall.
+    bool disc_overlaps(double x, double y, bool door_open) const;
+    /// Overlap test plus the bumpers: the bearing range, relative to the pose's
+    /// heading, of each overlap region between the disc and a wall.
+    Contact contact(const Pose& pose, bool door_open) const;
+
+private:
+    struct Slots {
+        alignas(64) std::array<double, kSlots> x0, y0, x1, y1;
+    };
+    const Slots& slots(bool door_open) const { return door_open ? open_ : closed_; }
+
+    std::array<WallBox, kSlots> walls_{};
+    int wall_count_ = 0;
+    int door_index_ = 0;
+    Slots closed_{};
+    Slots open_{};
+};
+
+}  // namespace stepstone::sim

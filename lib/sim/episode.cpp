@@ -1,0 +1,198 @@
+#include "sim/episode.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/assert.hpp"
+#include "core/error.hpp"
+#include "core/text.hpp"
+#include "sim/units.hpp"
+
+namespace stepstone::sim {
+
+namespace {
+
+bool within(const Pose& pose, double x, double y, double radius) {
+    const double dx = pose.x - x;
+    const double dy = pose.y - y;
+    return dx * dx + dy * dy <= radius * radius;
+}
+
+bool closer_than(const Pose& pose, const Light& light, double radius) {
+    const double dx = pose.x - light.x;
+    const double dy = pose.y - light.y;
+    return dx * dx + dy * dy < radius * radius;
+}
+
+std::array<int, 2> cell_of(const Pose& pose) {
+    return {static_cast<int>(pose.x * kGridTiles / kMapSize), static_cast<int>(pose.y * kGridTiles / kMapSize)};
+}
+
+}  // namespace
+
+Episode::Episode(const Task& task, const Recording& recording) : task_(&task), recording_(recording) {
+    if (!recording.behaviour.empty() && recording.behaviour.size() != task.behaviour_size()) {
+        throw DataError(concat("behaviour buffer holds ", recording.behaviour.size(), " floats, the task needs ",
+                               task.behaviour_size()));
+    }
+    if (!recording.cells.empty() && recording.cells.size() != task.cell_count()) {
+        throw DataError(
+            concat("cell buffer holds ", recording.cells.size(), " cells, the task needs ", task.cell_count()));
+    }
+    state_.door_open = task.door_starts_open();
+    state_.lit = task.initial_lit();
+}
+
+void Episode::begin_start(int index) {
+    STEPSTONE_ASSERT(index >= 0 && index < task_->config().starts);
+    start_ = index;
+    step_ = 0;
+
+    // the original's move(0, 0) at the new pose senses before the reset below,
+    // so the first inputs of starts 2 and 3 still see the previous start's
+    // door and lights (ORIGINAL.md 1.5)
+    pose_ = task_->start_pose(index);
+    sense(task_->arena(), task_->lights(), pose_, state_, readings_);
+    carrying_ = false;
+
+    // reinit_simu: flags cleared, door and lights as at set-up, switch armed
+    collided_ = false;
+    bumper_left_ = bumper_right_ = false;
+    state_.door_open = task_->door_starts_open();
+    state_.lit = task_->initial_lit();
+    switch_timer_ = 0;
+}
+
+void Episode::read_inputs(float* inputs) const {
+    fill_inputs(readings_, bumper_left_, bumper_right_, carrying_, inputs);
+}
+
+void Episode::act(float* outputs) {
+    STEPSTONE_ASSERT(start_ >= 0 && !stopped_);
+
+    // outputs at the sim boundary: NaN counted and replaced by 0, then clamped
+    for (int i = 0; i < kOutputs; ++i) {
+        if (std::isnan(outputs[i])) {
+            outputs[i] = 0.0f;
+            ++nan_outputs_;
+        }
+        outputs[i] = std::clamp(outputs[i], 0.0f, 1.0f);
+    }
+
+    record(outputs);
+    apply_action(outputs[2]);
+
+    // the target task's switch re-arms when its timer has run out
+    if (task_->spawn_ball_index() >= 0) {
+        if (switch_timer_ == 0) {
+            state_.lit |= 1u << task_->switch_index();
+        } else {
+            --switch_timer_;
+        }
+    }
+
+    const Pose before = pose_;
+    move(outputs[0], outputs[1]);
+
+    // stand-still rule: the count is never reset and ends the whole evaluation
+    if (is_still(before, pose_) && ++still_steps_ > task_->config().still_limit) stopped_ = true;
+
+    sense(task_->arena(), task_->lights(), pose_, state_, readings_);
+    ++step_;
+    ++steps_run_;
+}
+
+void Episode::record(const float* outputs) {
+    if (recording_.trace != nullptr) {
+        recording_.trace->push_back(PoseSample{start_, step_, pose_.x, pose_.y, pose_.heading});
+    }
+    if (start_ != 0) return;
+    if (!recording_.behaviour.empty()) {
+        float* row = recording_.behaviour.data() + rows_written_ * kChannels;
+        read_inputs(row);
+        std::copy(outputs, outputs + kOutputs, row + kInputs);
+        ++rows_written_;
+    }
+    if (!recording_.cells.empty() && step_ % task_->config().grid_period == 0) {
+        recording_.cells[cells_written_++] = cell_of(pose_);
+    }
+}
+
+void Episode::apply_action(float action) {
+    // release: scores only after a collision in this start and near the basket
+    if (action < 0.5f) {
+        if (carrying_) {
+            carrying_ = false;
+            if (collided_ && within(pose_, kBasketX, kBasketY, kBasketRadius)) ++balls_;
+        }
+        return;
+    }
+    if (carrying_) return;
+
+    // grab: the first lit ball within reach, else the switch
+    const auto lights = task_->lights();
+    for (std::size_t i = 0; i < lights.size(); ++i) {
+        const std::uint32_t bit = 1u << i;
+        if ((state_.lit & bit) == 0 || !closer_than(pose_, lights[i], kReach)) continue;
+        if (lights[i].kind == LightKind::ball) {
+            carrying_ = true;
+            state_.lit &= ~bit;
+            return;
+        }
+        if (lights[i].kind == LightKind::switch_light) {
+            state_.lit &= ~bit;
+            if (task_->spawn_ball_index() >= 0) {
+                state_.lit |= 1u << task_->spawn_ball_index();
+                switch_timer_ = kSwitchRearmSteps;
+            } else {
+                state_.door_open = true;
+            }
+        }
+    }
+}
+
+void Episode::move(float left_output, float right_output) {
+    const Pose next = move_pose(pose_, wheel_step(left_output), wheel_step(right_output));
+    const Contact contact = task_->arena().contact(next, state_.door_open);
+
+    // a blocked move keeps the position but takes the new heading
+    if (contact.hit) {
+        pose_.heading = next.heading;
+        collided_ = true;
+    } else {
+        pose_ = next;
+    }
+    bumper_left_ = contact.left;
+    bumper_right_ = contact.right;
+}
+
+void Episode::set_pose(const Pose& pose) {
+    pose_ = pose;
+    sense(task_->arena(), task_->lights(), pose_, state_, readings_);
+}
+
+EpisodeResult Episode::finish() {
+    // an early stop pads the first start's records: rows repeat the last row,
+    // cells take the final position
+    const std::size_t rows = static_cast<std::size_t>(task_->config().steps_per_start);
+    if (!recording_.behaviour.empty() && rows_written_ > 0) {
+        const float* last = recording_.behaviour.data() + (rows_written_ - 1) * kChannels;
+        for (std::size_t r = rows_written_; r < rows; ++r) {
+            std::copy(last, last + kChannels, recording_.behaviour.data() + r * kChannels);
+        }
+        rows_written_ = rows;
+    }
+    for (; cells_written_ < recording_.cells.size(); ++cells_written_) {
+        recording_.cells[cells_written_] = cell_of(pose_);
+    }
+
+    EpisodeResult result;
+    result.balls = balls_;
+    result.reward = static_cast<double>(balls_) / task_->reward_divisor();
+    result.steps_run = steps_run_;
+    result.stopped_early = stopped_;
+    result.nan_outputs = nan_outputs_;
+    return result;
+}
+
+}  // namespace stepstone::sim

@@ -1,0 +1,164 @@
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "sim/robot.hpp"
+#include "sim/sensors.hpp"
+#include "sim/task.hpp"
+
+namespace stepstone::sim {
+
+/// One sample of the full pose trace: the pose at which a step's inputs were sensed.
+struct PoseSample {
+    int start = 0;
+    int step = 0;  ///< step within the start
+    double x = 0.0;
+    double y = 0.0;
+    double heading = 0.0;
+};
+
+/// Caller-owned buffers an episode writes into. Any of them may be empty or
+/// null: that record is then not kept. Sizes are checked once per episode.
+struct Recording {
+    /// Behaviour matrix of the first start, row-major: steps_per_start rows
+    /// (time steps) x kChannels columns (12 inputs then the 3 clamped outputs),
+    /// size Task::behaviour_size(). Rows after an early stop repeat the last row.
+    std::span<float> behaviour;
+    /// Diversity trajectory of the first start: one (x, y) grid cell every
+    /// grid_period steps, (int)(x * 12 / 600), (int)(y * 12 / 600), size
+    /// Task::cell_count(). Slots after an early stop hold the final cell.
+    std::span<std::array<int, 2>> cells;
+    /// Full trace, appended to (one sample per step run). Reserve
+    /// starts x steps_per_start samples to avoid allocating during the episode.
+    std::vector<PoseSample>* trace = nullptr;
+};
+
+/// Outcome of one evaluation.
+struct EpisodeResult {
+    double reward = 0.0;         ///< balls / Task::reward_divisor()
+    int balls = 0;               ///< balls scored over all starts
+    long steps_run = 0;          ///< steps run over all starts
+    bool stopped_early = false;  ///< the stand-still rule ended the evaluation
+    int nan_outputs = 0;         ///< controller outputs that were NaN (replaced by 0)
+};
+
+/// What an observer of run_episode sees after each step.
+struct StepView {
+    int start = 0;
+    int step = 0;
+    Pose pose;                       ///< pose at which the inputs were sensed (before the move)
+    const float* inputs = nullptr;   ///< the 12 inputs given to the controller
+    const float* outputs = nullptr;  ///< the 3 outputs after NaN replacement and clamping
+    bool carrying = false;           ///< after this step's action
+    int balls = 0;                   ///< balls scored so far, all starts
+};
+
+/// An observer that ignores every step.
+struct IgnoreSteps {
+    void operator()(const StepView&) const {}
+};
+
+/// The mutable state of one evaluation of a task, advanced one step at a time.
+/// run_episode() drives it; use it directly only to script unusual loops
+/// (tests). Holds no heap memory of its own and allocates nothing per step.
+/// The task must outlive the episode.
+class Episode {
+public:
+    /// Throws DataError when a non-empty buffer of `recording` has the wrong size.
+    Episode(const Task& task, const Recording& recording = {});
+
+    /// Begins start `index` (0 <= index < starts): pose, sensors, flags and
+    /// lights reset as in the original's instance() (ORIGINAL.md 1.4-1.6).
+    void begin_start(int index);
+    /// The 12 inputs of the current step (sensed at the end of the previous move).
+    void read_inputs(float* inputs) const;
+    /// Runs the rest of the step: replaces NaN outputs by 0 (counted) and
+    /// clamps them to [0, 1] in place, records, applies the action at the
+    /// current pose, ticks the switch timer, moves, applies the stand-still
+    /// rule and senses at the new pose.
+    void act(float* outputs);
+    /// Ends the episode: pads the recording after an early stop, returns the result.
+    EpisodeResult finish();
+
+    const Pose& pose() const { return pose_; }
+    bool carrying() const { return carrying_; }
+    bool collided() const { return collided_; }
+    bool door_open() const { return state_.door_open; }
+    std::uint32_t lit() const { return state_.lit; }
+    int balls() const { return balls_; }
+    int still_steps() const { return still_steps_; }
+    bool stopped() const { return stopped_; }
+    int start() const { return start_; }
+    int step() const { return step_; }
+    /// Steps left before the switch re-arms (target task); 0 when armed.
+    int switch_timer() const { return switch_timer_; }
+    /// Raw readings at the current pose.
+    const SensorReadings& readings() const { return readings_; }
+
+    /// Places the robot (test scenes); senses at the new pose.
+    void set_pose(const Pose& pose);
+    /// Sets the carried flag (test scenes).
+    void set_carrying(bool carrying) { carrying_ = carrying; }
+
+private:
+    void record(const float* outputs);
+    void apply_action(float action);
+    void move(float left_output, float right_output);
+
+    const Task* task_;
+    Recording recording_;
+    Pose pose_;
+    WorldState state_;
+    SensorReadings readings_;
+    bool bumper_left_ = false;
+    bool bumper_right_ = false;
+    bool carrying_ = false;
+    bool collided_ = false;
+    bool stopped_ = false;
+    int switch_timer_ = 0;
+    int balls_ = 0;
+    int still_steps_ = 0;
+    int nan_outputs_ = 0;
+    int start_ = -1;
+    int step_ = 0;
+    long steps_run_ = 0;
+    std::size_t rows_written_ = 0;
+    std::size_t cells_written_ = 0;
+};
+
+/// Runs one evaluation of `controller` on `task` (ORIGINAL.md 3.5 loop order)
+/// and records into `recording`. Controller concept:
+///   void reset();                                   // at each start, state to 0
+///   void step(const float* inputs, float* outputs); // 12 inputs -> 3 outputs
+/// and optionally `void observe_pose(const Pose&)`, called before each step
+/// with the true pose (the scripted controller). `observer(const StepView&)`
+/// is called after each step. Deterministic: the same controller gives
+/// bit-identical results on any thread. Throws DataError on a mis-sized buffer.
+template <class Controller, class Observer = IgnoreSteps>
+EpisodeResult run_episode(const Task& task, Controller& controller, const Recording& recording = {},
+                          Observer&& observer = {}) {
+    Episode episode(task, recording);
+    std::array<float, kInputs> inputs{};
+    std::array<float, kOutputs> outputs{};
+    const TaskConfig& config = task.config();
+    for (int start = 0; start < config.starts && !episode.stopped(); ++start) {
+        episode.begin_start(start);
+        controller.reset();
+        for (int step = 0; step < config.steps_per_start; ++step) {
+            episode.read_inputs(inputs.data());
+            const Pose pose = episode.pose();
+            if constexpr (requires { controller.observe_pose(pose); }) controller.observe_pose(pose);
+            controller.step(inputs.data(), outputs.data());
+            episode.act(outputs.data());
+            observer(StepView{start, step, pose, inputs.data(), outputs.data(), episode.carrying(), episode.balls()});
+            if (episode.stopped()) break;
+        }
+    }
+    return episode.finish();
+}
+
+}  // namespace stepstone::sim

@@ -1,0 +1,47 @@
+#include "sim/robot.hpp"
+
+#include <cmath>
+
+#include "sim/units.hpp"
+
+namespace stepstone::sim {
+
+double normalize_angle(double angle) {
+    // headings change by at most 0.2 rad per step, so one wrap is the common case
+    while (angle > kPi) angle -= 2.0 * kPi;
+    while (angle <= -kPi) angle += 2.0 * kPi;
+    return angle;
+}
+
+Pose move_pose(const Pose& pose, double left, double right) {
+    const double alpha = (right - left) / kWheelBase;
+    Pose next = pose;
+
+    // nearly equal wheels: a straight line of the left wheel's length
+    if (std::fabs(alpha) <= 1e-10) {
+        next.x += left * std::cos(pose.heading);
+        next.y += left * std::sin(pose.heading);
+        return next;
+    }
+
+    // an arc about the instantaneous centre, computed in the robot frame
+    // (forward = local +y) and rotated by heading - pi/2 into the world
+    const double radius = left / alpha + kWheelBase / 2.0;
+    const double local_x = (std::cos(alpha) - 1.0) * radius;
+    const double local_y = std::sin(alpha) * radius;
+    const double c = std::cos(pose.heading - kPi / 2.0);
+    const double s = std::sin(pose.heading - kPi / 2.0);
+    next.x += local_x * c - local_y * s;
+    next.y += local_x * s + local_y * c;
+    next.heading = normalize_angle(pose.heading + alpha);
+    return next;
+}
+
+bool is_still(const Pose& before, const Pose& after) {
+    const double dx = after.x - before.x;
+    const double dy = after.y - before.y;
+    const double turn = std::fabs(normalize_angle(after.heading - before.heading));
+    return dx * dx + dy * dy < kStillEpsilon * kStillEpsilon && turn < kStillEpsilon;
+}
+
+}  // namespace stepstone::sim

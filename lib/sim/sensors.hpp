@@ -1,0 +1,71 @@
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <span>
+
+#include "sim/arena.hpp"
+#include "sim/robot.hpp"
+#include "sim/units.hpp"
+
+namespace stepstone::sim {
+
+/// Number of controller inputs, outputs, and behaviour channels (inputs then outputs).
+inline constexpr int kInputs = 12;
+inline constexpr int kOutputs = 3;
+inline constexpr int kChannels = kInputs + kOutputs;
+
+/// Colour of an illuminated object; each colour has two light sensors.
+enum class LightKind : std::uint8_t { ball = 0, basket = 1, switch_light = 2 };
+
+/// An illuminated object (fastsim's IlluminatedSwitch): a point light in units.
+/// Its radius plays no part in sensing.
+struct Light {
+    LightKind kind = LightKind::ball;
+    double x = 0.0;
+    double y = 0.0;
+};
+
+/// Most lights a task may have (bits of WorldState::lit).
+inline constexpr int kMaxLights = 16;
+
+/// The part of the world that changes during an episode and that sensors see.
+struct WorldState {
+    bool door_open = false;
+    std::uint32_t lit = 0;  ///< bit i set = light i is on
+};
+
+/// Raw readings of the exteroceptive sensors (inputs 0-8).
+struct SensorReadings {
+    /// Distance to the wall along each laser (+pi/4, -pi/4, 0), units; -1 when none within range.
+    std::array<double, 3> laser{};
+    /// Light sensors in input order: ball +-pi/4, basket +-pi/4, switch +-pi/4.
+    std::array<bool, 6> light{};
+};
+
+/// Bearing (radians) of each laser relative to the heading, in input order.
+inline constexpr std::array<double, 3> kLaserAngles{kPi / 4, -kPi / 4, 0.0};
+/// Bearing (radians) of the two sensors of each colour, + first.
+inline constexpr std::array<double, 2> kLightSensorAngles{kPi / 4, -kPi / 4};
+
+/// Readings at `pose` with the fast geometry. Lasers are exact ray/box
+/// distances; a light sensor fires when a lit light of its colour lies strictly
+/// inside its window (bearing in (angle - kLightWindow/2, angle + kLightWindow/2))
+/// and no wall crosses the segment between the light and the robot centre.
+/// Allocation-free; `lights` holds at most kMaxLights entries.
+void sense(const Arena& arena, std::span<const Light> lights, const Pose& pose, const WorldState& state,
+           SensorReadings& out);
+
+/// Laser input value from a distance: 1 - d / 320, 0 when d is -1 (nothing within range).
+inline float laser_input(double distance) {
+    return distance < 0.0 ? 0.0f : static_cast<float>(1.0 - distance / kLaserRange);
+}
+
+/// Fills the 12 controller inputs in the order of ORIGINAL.md 2.2.
+void fill_inputs(const SensorReadings& readings, bool bumper_left, bool bumper_right, bool carrying,
+                 float* inputs);
+
+/// Column names of the behaviour matrix: 12 inputs then 3 outputs.
+std::span<const char* const> channel_names();
+
+}  // namespace stepstone::sim

@@ -1,0 +1,20 @@
+// The target task (collectball's VARIANT_SW2, ORIGINAL.md 1.6): the door is
+// open throughout, the only ball sits unlit at the top-left position (97.5,
+// 50.625) and each switch press lights it; the switch re-arms 100 steps later.
+
+#include "sim/tasks/tasks.hpp"
+
+namespace stepstone::sim::tasks {
+
+std::shared_ptr<const Task> make_target_task(const TaskConfig& config) {
+    std::vector<Light> lights{kBalls[4]};
+    lights.insert(lights.end(), kBasketLights.begin(), kBasketLights.end());
+    lights.push_back(kSwitch);
+    const auto count = static_cast<int>(lights.size());
+    // the ball (bit 0) starts off; basket lights and switch on
+    const std::uint32_t lit = ((1u << count) - 1u) & ~1u;
+    return std::make_shared<const Task>(config, std::move(lights), lit, /*door_starts_open=*/true,
+                                        /*switch_index=*/count - 1, /*spawn_ball_index=*/0);
+}
+
+}  // namespace stepstone::sim::tasks
