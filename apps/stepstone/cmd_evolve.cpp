@@ -1,0 +1,82 @@
+// stepstone evolve: the paper's direct policy search into a run file
+
+#include <csignal>
+#include <iostream>
+#include <memory>
+
+#include "commands.hpp"
+#include "core/error.hpp"
+#include "exp/evolution.hpp"
+
+namespace stepstone::app {
+
+namespace {
+
+struct EvolveFlags {
+    std::string config;
+    std::string db;
+    std::int64_t seed = -1;
+    int generations = -1;
+    unsigned threads = 0;
+    std::string retain;
+    bool resume = false;
+    bool allow_config_change = false;
+    bool force = false;
+    bool quiet = false;
+};
+
+void run_evolve_command(const EvolveFlags& flags) {
+    exp::EvolveOptions options;
+    options.config_path = flags.config;
+    options.db_path = flags.db;
+    if (flags.seed >= 0) options.seed = static_cast<std::uint64_t>(flags.seed);
+    if (flags.generations >= 0) options.generations = flags.generations;
+    if (flags.retain == "all") options.retain = exp::Retain::all;
+    if (flags.retain == "front") options.retain = exp::Retain::front;
+    options.threads = flags.threads;
+    options.resume = flags.resume;
+    options.allow_config_change = flags.allow_config_change;
+    options.force = flags.force;
+    options.progress = flags.quiet ? ProgressMode::quiet : ProgressMode::automatic;
+    if (options.resume && options.force) throw ConfigError("--resume and --force cannot be used together");
+
+    const auto summary = exp::run_evolve(options);
+    if (summary.was_finished) {
+        std::cerr << flags.db << ": already at generation " << summary.generations_done << ", nothing to do\n";
+    }
+    std::cout << "seed " << summary.seed << "\n"
+              << "generations " << summary.generations_done << "\n"
+              << "evaluations " << summary.evaluations << "\n"
+              << "best_reward " << summary.best_reward << "\n";
+}
+
+void add_evolve_command(CLI::App& app) {
+    auto flags = std::make_shared<EvolveFlags>();
+    auto* cmd = app.add_subcommand("evolve", "Evolve neural-network policies with NSGA-II into a run database");
+    cmd->add_option("--config", flags->config, "Run config (JSON): task, ea, dnn, seed, retain")->required();
+    cmd->add_option("--db", flags->db, "Run database to create (or to continue with --resume)")->required();
+    cmd->add_option("--seed", flags->seed, "Run seed (default: the config's, else drawn and stored)");
+    cmd->add_option("--generations", flags->generations, "Epochs after the random generation 0 (overrides ea.generations)");
+    cmd->add_option("--threads", flags->threads, "Evaluation threads (default: all cores); results do not depend on it");
+    cmd->add_option("--retain", flags->retain, "Genomes to store: front (first front + best, default) or all")
+        ->check(CLI::IsMember({"front", "all"}));
+    cmd->add_flag("--resume", flags->resume, "Continue the run in --db from its last committed generation");
+    cmd->add_flag("--allow-config-change", flags->allow_config_change, "With --resume: accept a config that differs");
+    cmd->add_flag("--force", flags->force, "Replace an existing --db");
+    cmd->add_flag("--quiet", flags->quiet, "No progress on stderr");
+    cmd->footer(example({"stepstone evolve --config examples/source_quick.json --db run.db --seed 1",
+                         "stepstone evolve --config examples/source_quick.json --db run.db --resume --generations 40"}));
+    cmd->callback([flags] {
+        if (flags->seed < -1) throw ConfigError("--seed must be >= 0, got " + std::to_string(flags->seed));
+        if (flags->generations < -1) {
+            throw ConfigError("--generations must be >= 0, got " + std::to_string(flags->generations));
+        }
+        run_evolve_command(*flags);
+    });
+}
+
+const CommandRegistrar registrar(10, add_evolve_command);
+
+}  // namespace
+
+}  // namespace stepstone::app

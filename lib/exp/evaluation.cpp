@@ -1,0 +1,65 @@
+#include "exp/evaluation.hpp"
+
+#include <algorithm>
+#include <exception>
+#include <thread>
+
+#include "nn/network.hpp"
+#include "sim/episode.hpp"
+
+namespace stepstone::exp {
+
+Evaluation evaluate_genome(const sim::Task& task, const nn::Genome& genome, const nn::DnnConfig& dnn,
+                           std::span<float> behaviour) {
+    nn::Network network(genome, dnn);
+    std::vector<std::array<int, 2>> cells(task.cell_count());
+    sim::Recording recording;
+    recording.behaviour = behaviour;
+    recording.cells = cells;
+    const sim::EpisodeResult result = sim::run_episode(task, network, recording);
+
+    Evaluation evaluation;
+    evaluation.reward = result.reward;
+    evaluation.balls = result.balls;
+    evaluation.steps = result.steps_run;
+    evaluation.nan_outputs = result.nan_outputs;
+    evaluation.cells.reserve(cells.size());
+    for (const auto& cell : cells) {
+        evaluation.cells.push_back({static_cast<std::int16_t>(cell[0]), static_cast<std::int16_t>(cell[1])});
+    }
+    return evaluation;
+}
+
+unsigned resolve_threads(unsigned requested) {
+    if (requested > 0) return requested;
+    const unsigned cores = std::thread::hardware_concurrency();
+    return cores > 0 ? cores : 1;
+}
+
+std::vector<Evaluation> evaluate_all(const sim::Task& task, std::span<const nn::Genome> genomes,
+                                     const nn::DnnConfig& dnn, unsigned threads, std::vector<float>* behaviours) {
+    std::vector<Evaluation> results(genomes.size());
+    const std::size_t width = behaviours ? task.behaviour_size() : 0;
+    if (behaviours) behaviours->assign(genomes.size() * width, 0.0f);
+
+    // OpenMP hands out indices; each evaluation writes only its own slot
+    std::exception_ptr failure;
+    const auto count = static_cast<int>(genomes.size());
+    const int thread_count = static_cast<int>(std::min<std::size_t>(resolve_threads(threads), genomes.size()));
+#pragma omp parallel for schedule(dynamic, 1) num_threads(thread_count > 0 ? thread_count : 1)
+    for (int i = 0; i < count; ++i) {
+        const auto k = static_cast<std::size_t>(i);
+        try {
+            std::span<float> behaviour;
+            if (behaviours) behaviour = std::span<float>(behaviours->data() + k * width, width);
+            results[k] = evaluate_genome(task, genomes[k], dnn, behaviour);
+        } catch (...) {
+#pragma omp critical(stepstone_evaluation_failure)
+            if (!failure) failure = std::current_exception();
+        }
+    }
+    if (failure) std::rethrow_exception(failure);
+    return results;
+}
+
+}  // namespace stepstone::exp

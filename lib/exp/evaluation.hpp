@@ -1,0 +1,39 @@
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "evo/edit_distance.hpp"
+#include "nn/dnn_config.hpp"
+#include "nn/genome.hpp"
+#include "sim/task.hpp"
+
+namespace stepstone::exp {
+
+/// What one evaluation of a genome on a task gives.
+struct Evaluation {
+    double reward = 0;       ///< task reward (balls / 24 by default)
+    int balls = 0;
+    long steps = 0;          ///< simulation steps run
+    int nan_outputs = 0;     ///< network outputs that were NaN (replaced by 0)
+    evo::Trajectory cells;   ///< diversity trajectory of the first start
+};
+
+/// Compiles `genome` and runs one evaluation. `behaviour`, if not empty,
+/// receives the first start's behaviour matrix (Task::behaviour_size()
+/// floats). Deterministic and thread-safe (the task is shared read-only).
+Evaluation evaluate_genome(const sim::Task& task, const nn::Genome& genome, const nn::DnnConfig& dnn,
+                           std::span<float> behaviour = {});
+
+/// Evaluates every genome on `threads` threads (0 = all cores). Result k
+/// belongs to genome k whatever the thread count. If `behaviours` is not
+/// null it is resized to genomes.size() x behaviour_size() and filled.
+std::vector<Evaluation> evaluate_all(const sim::Task& task, std::span<const nn::Genome> genomes,
+                                     const nn::DnnConfig& dnn, unsigned threads,
+                                     std::vector<float>* behaviours = nullptr);
+
+/// Threads to use for `requested` (0 = every core of the machine).
+unsigned resolve_threads(unsigned requested);
+
+}  // namespace stepstone::exp

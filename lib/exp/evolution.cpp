@@ -1,0 +1,362 @@
+#include "exp/evolution.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <numeric>
+
+#include "core/error.hpp"
+#include "core/rng.hpp"
+#include "core/text.hpp"
+#include "db/database.hpp"
+#include "evo/pareto.hpp"
+#include "evo/selection.hpp"
+#include "nn/mutation.hpp"
+
+#ifndef STEPSTONE_VERSION
+#define STEPSTONE_VERSION "unknown"
+#endif
+
+namespace stepstone::exp {
+
+namespace {
+
+double now_seconds() {
+    using Clock = std::chrono::steady_clock;
+    return std::chrono::duration<double>(Clock::now().time_since_epoch()).count();
+}
+
+double median(std::vector<double> values) {
+    if (values.empty()) return 0.0;
+    std::sort(values.begin(), values.end());
+    const std::size_t n = values.size();
+    return n % 2 == 1 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
+nlohmann::json cells_to_json(const evo::Trajectory& cells) {
+    auto out = nlohmann::json::array();
+    for (const auto& cell : cells) out.push_back({cell.x, cell.y});
+    return out;
+}
+
+// ---------------------------------------------------------------- checkpoint
+
+nlohmann::json member_to_json(const Member& m) {
+    nlohmann::json json;
+    json["id"] = m.id;
+    json["parent_id"] = m.parent_id ? nlohmann::json(*m.parent_id) : nlohmann::json();
+    json["genome"] = m.genome.to_json();
+    json["reward"] = m.reward;
+    json["balls"] = m.balls;
+    json["steps"] = m.steps;
+    json["cells"] = cells_to_json(m.cells);
+    json["objectives"] = m.objectives;
+    json["crowding"] = m.crowding;
+    return json;
+}
+
+Member member_from_json(const nlohmann::json& json) {
+    Member m;
+    m.id = json.at("id").get<std::int64_t>();
+    if (!json.at("parent_id").is_null()) m.parent_id = json.at("parent_id").get<std::int64_t>();
+    m.genome = nn::Genome::from_json(json.at("genome"));
+    m.reward = json.at("reward").get<double>();
+    m.balls = json.at("balls").get<int>();
+    m.steps = json.at("steps").get<long>();
+    for (const auto& cell : json.at("cells")) {
+        m.cells.push_back({cell.at(0).get<std::int16_t>(), cell.at(1).get<std::int16_t>()});
+    }
+    m.objectives = json.at("objectives").get<std::vector<double>>();
+    m.crowding = json.at("crowding").get<double>();
+    return m;
+}
+
+}  // namespace
+
+// ----------------------------------------------------------------- Evolution
+
+Evolution::Evolution(const EvolveConfig& config, std::uint64_t seed, unsigned threads)
+    : config_(config), seed_(seed), threads_(resolve_threads(threads)), task_(sim::make_task(config.task)) {}
+
+GenerationWrite Evolution::initialise() {
+    const double started = now_seconds();
+    generation_ = 0;
+    const auto count = static_cast<std::size_t>(config_.ea.initial_multiplier * config_.ea.population_size);
+    std::vector<Member> mixed(count);
+    std::vector<nn::Genome> genomes;
+    genomes.reserve(count);
+    for (std::size_t k = 0; k < count; ++k) {
+        Rng rng(seed_, 0, k, Purpose::initial_genome);
+        genomes.push_back(nn::Genome::random_perceptron(config_.dnn, rng));
+        genomes.back().simplify();
+    }
+    const auto evaluations = evaluate_all(*task_, genomes, config_.dnn, threads_);
+    for (std::size_t k = 0; k < count; ++k) {
+        Member& m = mixed[k];
+        m.id = next_id_++;
+        m.genome = std::move(genomes[k]);
+        m.reward = evaluations[k].reward;
+        m.balls = evaluations[k].balls;
+        m.steps = evaluations[k].steps;
+        m.cells = evaluations[k].cells;
+        nan_outputs_ += evaluations[k].nan_outputs;
+    }
+    return select(std::move(mixed), 0, started);
+}
+
+GenerationWrite Evolution::epoch() {
+    const double started = now_seconds();
+    ++generation_;
+    const auto g = static_cast<std::uint64_t>(generation_);
+
+    // mating selection on the current parents (ORIGINAL.md 7.2)
+    evo::Objectives objectives;
+    std::vector<double> crowding;
+    for (const auto& m : population_) {
+        objectives.push_back(m.objectives);
+        crowding.push_back(m.crowding);
+    }
+    Rng selection_rng(seed_, g, 0, Purpose::selection);
+    const auto parents = evo::select_parents(objectives, crowding, selection_rng);
+
+    // children: mutated copies, simplified on the genotype as collectball does
+    std::vector<nn::Genome> genomes;
+    genomes.reserve(parents.size());
+    for (std::size_t k = 0; k < parents.size(); ++k) {
+        nn::Genome child = population_[parents[k]].genome;
+        Rng rng(seed_, g, k, Purpose::mutation);
+        nn::mutate(child, config_.dnn, rng);
+        child.simplify();
+        genomes.push_back(std::move(child));
+    }
+    const auto evaluations = evaluate_all(*task_, genomes, config_.dnn, threads_);
+
+    std::vector<Member> mixed = population_;
+    const std::size_t first_new = mixed.size();
+    for (std::size_t k = 0; k < genomes.size(); ++k) {
+        Member m;
+        m.id = next_id_++;
+        m.parent_id = population_[parents[k]].id;
+        m.genome = std::move(genomes[k]);
+        m.reward = evaluations[k].reward;
+        m.balls = evaluations[k].balls;
+        m.steps = evaluations[k].steps;
+        m.cells = evaluations[k].cells;
+        nan_outputs_ += evaluations[k].nan_outputs;
+        mixed.push_back(std::move(m));
+    }
+    return select(std::move(mixed), first_new, started);
+}
+
+GenerationWrite Evolution::select(std::vector<Member> mixed, std::size_t first_new, double started) {
+    // diversity of every member of the mixed population (ORIGINAL.md 5.4),
+    // reusing the distances between members already seen
+    std::vector<std::uint64_t> ids;
+    std::vector<evo::Trajectory> trajectories;
+    for (const auto& m : mixed) {
+        ids.push_back(static_cast<std::uint64_t>(m.id));
+        trajectories.push_back(m.cells);
+    }
+    diversity_.update(ids, trajectories, threads_);
+    const auto sums = diversity_.sums();
+    evo::Objectives objectives;
+    for (std::size_t k = 0; k < mixed.size(); ++k) objectives.push_back({mixed[k].reward, sums[k]});
+
+    const auto ranking = evo::rank_and_crowd(objectives);
+    const auto kept = evo::survivors(objectives, static_cast<std::size_t>(config_.ea.population_size));
+
+    GenerationWrite write;
+    auto& stats = write.stats;
+    stats.generation = generation_;
+    stats.evaluations = static_cast<std::int64_t>(mixed.size() - first_new);
+    for (const auto& front : ranking.fronts) stats.front_sizes.push_back(front.size());
+    stats.diversity_min = *std::min_element(sums.begin(), sums.end());
+    stats.diversity_max = *std::max_element(sums.begin(), sums.end());
+
+    // rows of the individuals evaluated in this generation
+    for (std::size_t k = first_new; k < mixed.size(); ++k) {
+        const Member& m = mixed[k];
+        IndividualRow row;
+        row.id = m.id;
+        row.generation = generation_;
+        row.parent_id = m.parent_id;
+        row.reward = m.reward;
+        row.fitness = objectives[k][0];
+        row.diversity = objectives[k][1];
+        row.balls = m.balls;
+        row.steps = m.steps;
+        write.individuals.push_back(row);
+    }
+
+    // genomes kept for replay: the first front, the best reward (lowest id on ties), or all new ones
+    std::size_t best = 0;
+    for (std::size_t k = 1; k < mixed.size(); ++k) {
+        if (mixed[k].reward > mixed[best].reward ||
+            (mixed[k].reward == mixed[best].reward && mixed[k].id < mixed[best].id)) {
+            best = k;
+        }
+    }
+    std::vector<std::size_t> stored(ranking.fronts.front().begin(), ranking.fronts.front().end());
+    stored.push_back(best);
+    if (config_.retain == Retain::all) {
+        for (std::size_t k = first_new; k < mixed.size(); ++k) stored.push_back(k);
+    }
+    std::sort(stored.begin(), stored.end());
+    stored.erase(std::unique(stored.begin(), stored.end()), stored.end());
+    for (std::size_t k : stored) write.genomes.push_back({mixed[k].id, mixed[k].genome.to_json().dump()});
+
+    // the survivors become the population
+    std::vector<Member> next;
+    next.reserve(kept.indices.size());
+    for (std::size_t j = 0; j < kept.indices.size(); ++j) {
+        Member m = std::move(mixed[kept.indices[j]]);
+        m.objectives = objectives[kept.indices[j]];
+        m.crowding = kept.crowding[j];
+        next.push_back(std::move(m));
+    }
+    population_ = std::move(next);
+
+    std::vector<double> rewards;
+    for (const auto& m : population_) rewards.push_back(m.reward);
+    stats.best_reward = *std::max_element(rewards.begin(), rewards.end());
+    stats.mean_reward = std::accumulate(rewards.begin(), rewards.end(), 0.0) / static_cast<double>(rewards.size());
+    stats.median_reward = median(rewards);
+    stats.wall_time = now_seconds() - started;
+    write.nan_outputs = nan_outputs_;
+    nan_outputs_ = 0;
+    write.checkpoint = checkpoint();
+    return write;
+}
+
+nlohmann::json Evolution::checkpoint() const {
+    nlohmann::json state;
+    state["generation"] = generation_;
+    state["next_id"] = next_id_;
+    state["population"] = nlohmann::json::array();
+    for (const auto& m : population_) state["population"].push_back(member_to_json(m));
+    return state;
+}
+
+void Evolution::restore(const nlohmann::json& state) {
+    try {
+        generation_ = state.at("generation").get<int>();
+        next_id_ = state.at("next_id").get<std::int64_t>();
+        std::vector<Member> population;
+        for (const auto& member : state.at("population")) population.push_back(member_from_json(member));
+        if (population.size() != static_cast<std::size_t>(config_.ea.population_size)) {
+            throw DataError(concat("checkpoint holds ", population.size(), " individuals, the config asks for ",
+                                   config_.ea.population_size));
+        }
+        population_ = std::move(population);
+    } catch (const nlohmann::json::exception& e) {
+        throw DataError(concat("checkpoint is malformed: ", one_line(e.what())));
+    }
+    diversity_.clear();
+}
+
+// ---------------------------------------------------------------- run_evolve
+
+namespace {
+
+// the first key path at which two JSON values differ, for the config-change message
+std::string first_difference(const nlohmann::json& a, const nlohmann::json& b, const std::string& path) {
+    if (a.is_object() && b.is_object()) {
+        for (const auto& [key, value] : a.items()) {
+            const std::string child = path.empty() ? key : path + "." + key;
+            if (!b.contains(key)) return child;
+            auto diff = first_difference(value, b.at(key), child);
+            if (!diff.empty()) return diff;
+        }
+        for (const auto& [key, value] : b.items()) {
+            if (!a.contains(key)) return path.empty() ? key : path + "." + key;
+        }
+        return "";
+    }
+    return a == b ? "" : (path.empty() ? std::string("config") : path);
+}
+
+void remove_database_files(const std::filesystem::path& path) {
+    std::error_code ec;
+    for (const char* suffix : {"", "-wal", "-shm", "-journal"}) {
+        std::filesystem::remove(std::filesystem::path(path.string() + suffix), ec);
+    }
+}
+
+}  // namespace
+
+EvolveSummary run_evolve(const EvolveOptions& options) {
+    EvolveConfig config = EvolveConfig::load(options.config_path);
+    if (options.retain) config.retain = *options.retain;
+    if (options.generations) config.ea.generations = *options.generations;
+    if (options.seed) config.seed = *options.seed;
+    const std::string name = options.db_path.filename().string();
+
+    db::Connection connection = [&] {
+        if (options.resume) return db::open_database(options.db_path, db::OpenMode::read_write);
+        db::check_output_path(options.db_path, options.force);
+        if (!config.seed) config.seed = fresh_seed() >> 1;
+        // the run row is written under a temporary name and moved into place whole
+        {
+            const auto temp = options.db_path.string() + ".new";
+            remove_database_files(temp);
+            db::OutputDatabase output(temp, true);
+            RunRecord run;
+            run.task = std::string(sim::to_string(config.task.kind));
+            run.seed = static_cast<std::int64_t>(*config.seed);
+            run.config = config.to_json();
+            run.generations = config.ea.generations;
+            insert_run(output.connection(), run, STEPSTONE_VERSION);
+            output.commit();
+            if (options.force) remove_database_files(options.db_path);
+            std::filesystem::rename(temp, options.db_path);
+        }
+        return db::open_database(options.db_path, db::OpenMode::read_write);
+    }();
+
+    RunRecord run = load_run(connection);
+    if (options.resume) {
+        // the stored seed is the run's unless the user names another one
+        if (!options.seed && run.config.contains("seed")) config.seed = run.config["seed"].get<std::uint64_t>();
+        const std::string diff = first_difference(run.config, config.to_json(), "");
+        if (!diff.empty() && !options.allow_config_change) {
+            throw ConfigError(concat(name, ": the config differs from the run's at ", diff,
+                                     " (use --allow-config-change to resume anyway)"));
+        }
+        if (!options.generations) config.ea.generations = run.generations;
+    }
+    const std::uint64_t seed = static_cast<std::uint64_t>(run.seed);
+
+    Evolution evolution(config, seed, options.threads);
+    if (auto state = load_checkpoint(connection, run.id)) evolution.restore(*state);
+
+    EvolveSummary summary;
+    summary.seed = seed;
+    const int target = config.ea.generations;
+    summary.was_finished = options.resume && evolution.generation() >= target;
+    run.generations = target;
+    run.status = "running";
+
+    Progress progress("generation", static_cast<std::uint64_t>(target), options.progress);
+    const double started = now_seconds();
+    std::int64_t evaluations_here = 0;
+    while (evolution.generation() < target) {
+        GenerationWrite write = evolution.generation() < 0 ? evolution.initialise() : evolution.epoch();
+        write_generation(connection, run, write);
+        evaluations_here += write.stats.evaluations;
+        const double elapsed = now_seconds() - started;
+        char status[96];
+        std::snprintf(status, sizeof status, "best %.4g  %.1f eval/s", write.stats.best_reward,
+                      elapsed > 0 ? static_cast<double>(evaluations_here) / elapsed : 0.0);
+        progress.update(static_cast<std::uint64_t>(evolution.generation()), status);
+    }
+    run.status = "finished";
+    update_run(connection, run);
+    if (!summary.was_finished) progress.finish();
+
+    summary.generations_done = run.generations_done;
+    summary.evaluations = run.evaluations;
+    for (const auto& m : evolution.population()) summary.best_reward = std::max(summary.best_reward, m.reward);
+    return summary;
+}
+
+}  // namespace stepstone::exp

@@ -1,0 +1,100 @@
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "core/progress.hpp"
+#include "evo/diversity_matrix.hpp"
+#include "exp/evaluation.hpp"
+#include "exp/evolve_config.hpp"
+#include "exp/run_store.hpp"
+#include "nn/genome.hpp"
+
+namespace stepstone::exp {
+
+/// One member of the population between generations.
+struct Member {
+    std::int64_t id = 0;
+    std::optional<std::int64_t> parent_id;
+    nn::Genome genome{0, 0};
+    double reward = 0;
+    int balls = 0;
+    long steps = 0;
+    evo::Trajectory cells;
+    std::vector<double> objectives;  ///< (fitness, diversity) in the selection that kept it
+    double crowding = 0;             ///< crowding distance in that selection
+};
+
+/// The source-task evolution of the paper (NSGA-II on task reward and
+/// behavioural diversity, ORIGINAL.md 5-7), one generation at a time. Each
+/// generation returns what it writes to the run file; the state between
+/// generations is plain data (checkpoint()), and every random draw comes from
+/// the stream (seed, generation, individual, purpose), so a run restored from
+/// its checkpoint continues exactly like an uninterrupted one, with any
+/// number of threads.
+class Evolution {
+public:
+    Evolution(const EvolveConfig& config, std::uint64_t seed, unsigned threads);
+
+    /// Generation 0: initial_multiplier x mu random perceptrons, evaluated
+    /// and cut to mu.
+    GenerationWrite initialise();
+    /// One epoch: mating selection, mutation (+ simplify), evaluation of the
+    /// children, diversity on parents + children, (mu + lambda) selection.
+    GenerationWrite epoch();
+
+    /// The state to resume from.
+    nlohmann::json checkpoint() const;
+    /// Restores the state written by checkpoint(); throws DataError if it is malformed.
+    void restore(const nlohmann::json& state);
+
+    int generation() const { return generation_; }
+    const std::vector<Member>& population() const { return population_; }
+
+private:
+    GenerationWrite select(std::vector<Member> mixed, std::size_t first_new, double started);
+
+    EvolveConfig config_;
+    std::uint64_t seed_;
+    unsigned threads_;
+    std::shared_ptr<const sim::Task> task_;
+    evo::DiversityMatrix diversity_;
+    std::vector<Member> population_;
+    int generation_ = -1;
+    std::int64_t next_id_ = 0;
+    std::int64_t nan_outputs_ = 0;  // NaN outputs of the generation in progress
+};
+
+/// Options of `stepstone evolve`.
+struct EvolveOptions {
+    std::filesystem::path config_path;
+    std::filesystem::path db_path;
+    std::optional<std::uint64_t> seed;
+    std::optional<int> generations;
+    std::optional<Retain> retain;
+    unsigned threads = 0;  ///< 0 = every core
+    bool resume = false;
+    bool allow_config_change = false;
+    bool force = false;
+    ProgressMode progress = ProgressMode::automatic;
+};
+
+/// What a finished `evolve` reports.
+struct EvolveSummary {
+    std::uint64_t seed = 0;
+    int generations_done = -1;
+    double best_reward = 0;
+    std::int64_t evaluations = 0;
+    bool was_finished = false;  ///< --resume on a run that had nothing left to do
+};
+
+/// Creates (or resumes) a run file and evolves it to the asked generation,
+/// one transaction per generation. Throws ConfigError on bad options or
+/// config, DatabaseError on an unusable file (left unchanged).
+EvolveSummary run_evolve(const EvolveOptions& options);
+
+}  // namespace stepstone::exp

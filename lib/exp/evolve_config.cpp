@@ -1,0 +1,102 @@
+#include "exp/evolve_config.hpp"
+
+#include <limits>
+
+#include "core/config.hpp"
+#include "core/error.hpp"
+#include "core/text.hpp"
+
+namespace stepstone::exp {
+
+namespace {
+
+constexpr std::int64_t kMaxSeed = std::numeric_limits<std::int64_t>::max();
+
+sim::TaskConfig read_task(JsonReader reader) {
+    sim::TaskConfig task;
+    std::string kind(sim::to_string(task.kind));
+    reader.read_choice("kind", kind, {"source", "target"});
+    task.kind = sim::parse_task_kind(kind, reader.path_of("kind"));
+    reader.read("steps_per_start", task.steps_per_start, 1, 1000000);
+    reader.read("starts", task.starts, 1, 3);
+    reader.read("still_limit", task.still_limit, 0, 100000000);
+    reader.read("grid_period", task.grid_period, 1, 1000000);
+    reader.finish();
+    task.validate();
+    return task;
+}
+
+EaConfig read_ea(JsonReader reader) {
+    EaConfig ea;
+    reader.read("population_size", ea.population_size, 4, 1000000);
+    if (ea.population_size % 4 != 0) {
+        throw ConfigError(concat(reader.path_of("population_size"), " must be a multiple of 4, got ",
+                                 ea.population_size));
+    }
+    reader.read("generations", ea.generations, 0, 100000000);
+    reader.read("initial_multiplier", ea.initial_multiplier, 1, 100);
+    reader.finish();
+    return ea;
+}
+
+}  // namespace
+
+EvolveConfig EvolveConfig::from_json(const nlohmann::json& json, const std::string& source) {
+    try {
+        JsonReader root(json, "");
+        EvolveConfig config;
+        config.task = read_task(root.child("task"));
+        config.ea = read_ea(root.child("ea"));
+        auto dnn = root.child("dnn");
+        config.dnn = nn::DnnConfig::from_json(dnn);
+        if (config.dnn.inputs != sim::kInputs || config.dnn.outputs != sim::kOutputs) {
+            throw ConfigError(concat("dnn.inputs and dnn.outputs must be ", sim::kInputs, " and ", sim::kOutputs,
+                                     " for the robot, got ", config.dnn.inputs, " and ", config.dnn.outputs));
+        }
+        if (root.has("seed")) {
+            std::int64_t seed = 0;
+            root.read("seed", seed, 0, kMaxSeed);
+            config.seed = static_cast<std::uint64_t>(seed);
+        }
+        std::string retain = "front";
+        root.read_choice("retain", retain, {"front", "all"});
+        config.retain = retain == "all" ? Retain::all : Retain::front;
+        root.finish();
+        return config;
+    } catch (const ConfigError& e) {
+        throw ConfigError(concat(source, ": ", e.what()));
+    }
+}
+
+EvolveConfig EvolveConfig::load(const std::filesystem::path& path) {
+    return from_json(load_json_file(path), path.filename().string());
+}
+
+nlohmann::json EvolveConfig::to_json() const {
+    nlohmann::json json;
+    json["task"] = {{"kind", sim::to_string(task.kind)},
+                    {"steps_per_start", task.steps_per_start},
+                    {"starts", task.starts},
+                    {"still_limit", task.still_limit},
+                    {"grid_period", task.grid_period}};
+    json["ea"] = {{"population_size", ea.population_size}, {"initial_multiplier", ea.initial_multiplier}};
+    json["dnn"] = {{"inputs", dnn.inputs},
+                   {"outputs", dnn.outputs},
+                   {"weight_min", dnn.weight_min},
+                   {"weight_max", dnn.weight_max},
+                   {"bias_min", dnn.bias_min},
+                   {"bias_max", dnn.bias_max},
+                   {"bias_scale", dnn.bias_scale},
+                   {"parameter_mutation_rate", dnn.parameter_mutation_rate},
+                   {"polynomial_eta", dnn.polynomial_eta},
+                   {"rewire_connection_rate", dnn.rewire_connection_rate},
+                   {"add_connection_rate", dnn.add_connection_rate},
+                   {"delete_connection_rate", dnn.delete_connection_rate},
+                   {"add_neuron_rate", dnn.add_neuron_rate},
+                   {"delete_neuron_rate", dnn.delete_neuron_rate}};
+    if (seed) json["seed"] = *seed;
+    json["retain"] = retain == Retain::all ? "all" : "front";
+    return json;
+}
+
+}  // namespace stepstone::exp

@@ -1,0 +1,55 @@
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "nn/dnn_config.hpp"
+#include "sim/task.hpp"
+
+namespace stepstone::exp {
+
+/// NSGA-II settings (ORIGINAL.md 7). Defaults are the paper's.
+struct EaConfig {
+    /// mu = lambda; a positive multiple of 4 (the tournament works in blocks of 4).
+    int population_size = 200;
+    /// Epochs after generation 0 (the random start): 4000 gives sferes2's
+    /// nb_gen = 4001 generations, numbered 0 to 4000.
+    int generations = 4000;
+    /// Generation 0 evaluates initial_multiplier x population_size random
+    /// genomes and keeps population_size (sferes2 initial_aleat = 2).
+    int initial_multiplier = 2;
+};
+
+/// Which genomes a run stores for replay.
+enum class Retain {
+    front,  ///< the first front and the best of every generation
+    all,    ///< every evaluated genome
+};
+
+/// Everything `stepstone evolve` reads from its config file.
+struct EvolveConfig {
+    sim::TaskConfig task;
+    nn::DnnConfig dnn;
+    EaConfig ea;
+    std::optional<std::uint64_t> seed;  ///< absent: drawn from the OS and stored
+    Retain retain = Retain::front;
+
+    /// Strict parse: unknown keys, wrong types and out-of-range values throw
+    /// ConfigError naming `source` and the key path. Keys: task {kind,
+    /// steps_per_start, starts, still_limit, grid_period}, ea {population_size,
+    /// generations, initial_multiplier}, dnn {see nn::DnnConfig}, seed, retain.
+    static EvolveConfig from_json(const nlohmann::json& json, const std::string& source = "config");
+    /// Reads and parses a config file.
+    static EvolveConfig load(const std::filesystem::path& path);
+
+    /// The effective config as stored with the run: every key with its value,
+    /// the seed included, `ea.generations` excluded (it is the run's own
+    /// column, so a run can be extended on resume).
+    nlohmann::json to_json() const;
+};
+
+}  // namespace stepstone::exp

@@ -1,0 +1,152 @@
+#include <catch2/catch.hpp>
+
+#include "core/error.hpp"
+#include "db/database.hpp"
+#include "db/digest.hpp"
+#include "exp/evolution.hpp"
+#include "exp/replay.hpp"
+#include "support/temp_dir.hpp"
+
+using namespace stepstone;
+using Catch::Matchers::Contains;
+
+namespace {
+
+// a tiny run: 8 individuals, one short start; fast enough for many runs per test
+const char* kTinyConfig = R"({
+  "task": {"kind": "source", "steps_per_start": 300, "starts": 1},
+  "ea": {"population_size": 8, "generations": 6},
+  "dnn": {"add_connection_rate": 0.5, "add_neuron_rate": 0.3},
+  "seed": 11
+})";
+
+std::filesystem::path write_config(const test::TempDir& dir, const std::string& text, const char* name = "c.json") {
+    test::write_file(dir / name, text);
+    return dir / name;
+}
+
+exp::EvolveOptions options_for(const test::TempDir& dir, const std::string& db, unsigned threads) {
+    exp::EvolveOptions options;
+    options.config_path = dir / "c.json";
+    options.db_path = dir / db;
+    options.threads = threads;
+    options.progress = ProgressMode::quiet;
+    return options;
+}
+
+std::string digest(const std::filesystem::path& path) {
+    auto connection = db::open_database(path, db::OpenMode::read_only);
+    return db::run_digest(connection);
+}
+
+}  // namespace
+
+TEST_CASE("a run is identical with 1, 2 and 4 threads", "[exp][determinism]") {
+    test::TempDir dir;
+    write_config(dir, kTinyConfig);
+    std::vector<std::string> digests;
+    for (unsigned threads : {1u, 2u, 4u}) {
+        const std::string name = "t" + std::to_string(threads) + ".db";
+        exp::run_evolve(options_for(dir, name, threads));
+        digests.push_back(digest(dir / name));
+    }
+    CHECK(digests[0] == digests[1]);
+    CHECK(digests[0] == digests[2]);
+}
+
+TEST_CASE("running 3 generations then resuming to 6 equals running 6", "[exp][determinism][resume]") {
+    test::TempDir dir;
+    write_config(dir, kTinyConfig);
+    exp::run_evolve(options_for(dir, "full.db", 2));
+
+    auto first = options_for(dir, "split.db", 1);
+    first.generations = 3;
+    exp::run_evolve(first);
+    auto second = options_for(dir, "split.db", 2);
+    second.resume = true;
+    second.generations = 6;
+    const auto summary = exp::run_evolve(second);
+    CHECK(summary.generations_done == 6);
+    CHECK(digest(dir / "split.db") == digest(dir / "full.db"));
+
+    // resuming a finished run does nothing and changes nothing
+    const auto before = digest(dir / "full.db");
+    auto again = options_for(dir, "full.db", 1);
+    again.resume = true;
+    CHECK(exp::run_evolve(again).was_finished);
+    CHECK(digest(dir / "full.db") == before);
+}
+
+TEST_CASE("the run file holds every generation, individual and a replayable best", "[exp][evolve]") {
+    test::TempDir dir;
+    write_config(dir, kTinyConfig);
+    exp::run_evolve(options_for(dir, "run.db", 2));
+    auto connection = db::open_database(dir / "run.db", db::OpenMode::read_only);
+    // generations 0..6; 16 random individuals then 8 children per epoch
+    CHECK(connection.query_int("SELECT count(*) FROM generation") == 7);
+    CHECK(connection.query_int("SELECT count(*) FROM individual") == 16 + 6 * 8);
+    CHECK(connection.query_int("SELECT sum(evaluations) FROM generation") == 16 + 6 * 8);
+    CHECK(connection.query_int("SELECT count(*) FROM individual WHERE generation > 0 AND parent_id IS NULL") == 0);
+    CHECK(connection.query_int("SELECT status = 'finished' AND generations_done = 6 FROM run") == 1);
+    // (mu + lambda) elitism: the best reward never decreases
+    CHECK(connection.query_int("SELECT count(*) FROM generation AS a JOIN generation AS b "
+                               "ON b.generation = a.generation + 1 WHERE b.best_reward < a.best_reward") == 0);
+    // every child's parent is an earlier individual
+    CHECK(connection.query_int("SELECT count(*) FROM individual AS c JOIN individual AS p ON p.id = c.parent_id "
+                               "WHERE p.generation >= c.generation") == 0);
+
+    // replay of every stored genome gives the stored reward exactly
+    auto ids = connection.prepare("SELECT individual_id FROM genome ORDER BY individual_id");
+    int replayed = 0;
+    while (ids.step()) {
+        const auto r = exp::replay(dir / "run.db", std::to_string(ids.column_int(0)));
+        CHECK(r.result.reward == r.stored_reward);
+        ++replayed;
+    }
+    CHECK(replayed > 0);
+    CHECK_THROWS_WITH(exp::replay(dir / "run.db", "abc"), Contains("--individual must be 'best' or an individual id"));
+}
+
+TEST_CASE("bad configs are refused with the key named and no file written", "[exp][errors]") {
+    test::TempDir dir;
+    const std::vector<std::pair<std::string, std::string>> cases = {
+        {R"({"ea": {"populaton_size": 8}})", "ea.populaton_size: unknown key"},
+        {R"({"dnn": {"add_connection_rate": -0.1}})", "dnn.add_connection_rate must be in [0, 1], got -0.1"},
+        {R"({"ea": {"population_size": 10}})", "ea.population_size must be a multiple of 4, got 10"},
+        {R"({"task": {"kind": "sideways"}})", "task.kind must be one of source|target"},
+        {R"({"dnn": {"inputs": 5}})", "dnn.inputs and dnn.outputs must be 12 and 3"},
+    };
+    for (const auto& [text, message] : cases) {
+        INFO(text);
+        write_config(dir, text);
+        try {
+            exp::run_evolve(options_for(dir, "bad.db", 1));
+            FAIL("no exception");
+        } catch (const ConfigError& e) {
+            CHECK_THAT(e.what(), Contains(message));
+            CHECK_THAT(e.what(), Contains("c.json: "));
+        }
+        CHECK(!std::filesystem::exists(dir / "bad.db"));
+    }
+}
+
+TEST_CASE("resuming with another config is refused and leaves the run unchanged", "[exp][errors][resume]") {
+    test::TempDir dir;
+    write_config(dir, kTinyConfig);
+    auto options = options_for(dir, "run.db", 1);
+    options.generations = 2;
+    exp::run_evolve(options);
+    const std::string before = test::read_file(dir / "run.db");
+
+    std::string changed = kTinyConfig;
+    changed.replace(changed.find("\"population_size\": 8"), 20, "\"population_size\": 12");
+    write_config(dir, changed);
+    auto resume = options_for(dir, "run.db", 1);
+    resume.resume = true;
+    CHECK_THROWS_WITH(exp::run_evolve(resume), Contains("run.db: the config differs from the run's at ea.population_size"));
+    CHECK(test::read_file(dir / "run.db") == before);
+
+    // an existing file is not replaced without --force
+    auto again = options_for(dir, "run.db", 1);
+    CHECK_THROWS_WITH(exp::run_evolve(again), Contains("already exists (use --force to overwrite)"));
+}

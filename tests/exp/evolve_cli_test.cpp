@@ -1,0 +1,101 @@
+#include <catch2/catch.hpp>
+
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <thread>
+
+#include "db/database.hpp"
+#include "db/digest.hpp"
+#include "support/run_cli.hpp"
+#include "support/temp_dir.hpp"
+
+using namespace stepstone;
+using Catch::Matchers::Contains;
+
+namespace {
+
+// long enough (about 0.1 s a generation) to be killed in the middle
+const char* kConfig = R"({
+  "task": {"kind": "source", "steps_per_start": 2000, "starts": 3},
+  "ea": {"population_size": 16, "generations": 30},
+  "seed": 5
+})";
+
+std::string digest(const std::filesystem::path& path) {
+    auto connection = db::open_database(path, db::OpenMode::read_only);
+    return db::run_digest(connection);
+}
+
+int generations_done(const std::filesystem::path& path) {
+    try {
+        auto connection = db::open_database(path, db::OpenMode::read_only);
+        return static_cast<int>(connection.query_int("SELECT generations_done FROM run").value_or(-1));
+    } catch (const std::exception&) {
+        return -1;  // not created yet
+    }
+}
+
+}  // namespace
+
+TEST_CASE("evolve killed with SIGKILL mid-run resumes to the digest of an uninterrupted run", "[exp][cli][resume][slow]") {
+    test::TempDir dir;
+    test::write_file(dir / "c.json", kConfig);
+    const auto killed = dir / "killed.db";
+
+    const pid_t pid = ::fork();
+    REQUIRE(pid >= 0);
+    if (pid == 0) {
+        ::execl(STEPSTONE_BINARY, STEPSTONE_BINARY, "evolve", "--config", (dir / "c.json").c_str(), "--db",
+                killed.c_str(), "--threads", "2", "--quiet", static_cast<char*>(nullptr));
+        ::_exit(127);
+    }
+    // wait until a few generations are committed, then kill without warning
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+    while (generations_done(killed) < 3 && std::chrono::steady_clock::now() < deadline) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    ::kill(pid, SIGKILL);
+    int status = 0;
+    ::waitpid(pid, &status, 0);
+    const int done_at_kill = generations_done(killed);
+    INFO("generations committed when killed: " << done_at_kill);
+    CHECK(done_at_kill >= 3);
+    CHECK(done_at_kill < 30);
+
+    auto resumed = test::run_cli({"evolve", "--config", (dir / "c.json").string(), "--db", killed.string(),
+                                  "--resume", "--threads", "1", "--quiet"});
+    REQUIRE(resumed.exit_code == 0);
+    auto full = test::run_cli({"evolve", "--config", (dir / "c.json").string(), "--db", (dir / "full.db").string(),
+                               "--threads", "2", "--quiet"});
+    REQUIRE(full.exit_code == 0);
+    CHECK(digest(killed) == digest(dir / "full.db"));
+
+    auto digest_cli = test::run_cli({"db", "digest", killed.string()});
+    CHECK(digest_cli.exit_code == 0);
+    CHECK(digest_cli.out == digest(killed) + "\n");
+
+    auto replay = test::run_cli({"replay", killed.string(), "--individual", "best"});
+    CHECK(replay.exit_code == 0);
+    CHECK_THAT(replay.out, Contains("stored_reward"));
+}
+
+TEST_CASE("evolve usage and config errors exit 2 with one line and no file", "[exp][cli][errors]") {
+    test::TempDir dir;
+    test::write_file(dir / "bad.json", R"({"ea": {"population_size": 6}})");
+    auto result = test::run_cli({"evolve", "--config", (dir / "bad.json").string(), "--db", (dir / "r.db").string()});
+    CHECK(result.exit_code == 2);
+    REQUIRE(result.err_lines().size() == 1);
+    CHECK_THAT(result.err, Contains("bad.json: ea.population_size must be a multiple of 4, got 6"));
+    CHECK(!std::filesystem::exists(dir / "r.db"));
+
+    result = test::run_cli({"evolve", "--config", (dir / "bad.json").string()});
+    CHECK(result.exit_code == 2);
+    CHECK(result.err_lines().size() == 1);
+
+    result = test::run_cli({"replay", (dir / "absent.db").string()});
+    CHECK(result.exit_code == 1);
+    CHECK(result.err_lines().size() == 1);
+}
