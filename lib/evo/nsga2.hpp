@@ -76,7 +76,8 @@ public:
         }
         Population<Genome> next;
         next.evaluations = genomes.size();
-        reduce(std::move(genomes), evaluate_all(genomes), next);
+        Objectives objectives = evaluate_all(genomes);
+        reduce(std::move(genomes), std::move(objectives), next);
         return next;
     }
 
