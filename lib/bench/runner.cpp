@@ -1,0 +1,78 @@
+#include "bench/runner.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <stdexcept>
+#include <vector>
+
+namespace stepstone::bench {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// units per second of repeated calls lasting at least min_seconds
+double measure(const Work& work, double min_seconds, const std::string& what) {
+    std::uint64_t units = 0;
+    const auto start = Clock::now();
+    double elapsed = 0;
+    do {
+        const std::uint64_t done = work();
+        if (done == 0) throw std::logic_error("bench case " + what + " did no work");
+        units += done;
+        elapsed = std::chrono::duration<double>(Clock::now() - start).count();
+    } while (elapsed < min_seconds);
+    return static_cast<double>(units) / elapsed;
+}
+
+double median(std::vector<double> values) {
+    std::sort(values.begin(), values.end());
+    const std::size_t n = values.size();
+    return n % 2 == 1 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
+}  // namespace
+
+RunOptions full_options() { return RunOptions{}; }
+
+RunOptions quick_options() {
+    RunOptions options;
+    options.size = Size::quick;
+    options.repetitions = 3;
+    options.min_seconds = 0.03;
+    return options;
+}
+
+CaseResult run_case(const Case& c, const RunOptions& options, const RoundCallback& on_round) {
+    const int rounds = std::max(1, options.repetitions);
+    const Workload workload = c.make(options.size);
+
+    // warm-up: caches, page faults and lazy allocations stay out of the rates
+    workload.baseline();
+    workload.candidate();
+
+    // alternate the order so neither side always runs on a cooler or hotter core
+    std::vector<double> baseline_rates;
+    std::vector<double> candidate_rates;
+    for (int round = 0; round < rounds; ++round) {
+        if (round % 2 == 0) {
+            baseline_rates.push_back(measure(workload.baseline, options.min_seconds, c.name + " (baseline)"));
+            candidate_rates.push_back(measure(workload.candidate, options.min_seconds, c.name + " (candidate)"));
+        } else {
+            candidate_rates.push_back(measure(workload.candidate, options.min_seconds, c.name + " (candidate)"));
+            baseline_rates.push_back(measure(workload.baseline, options.min_seconds, c.name + " (baseline)"));
+        }
+        if (on_round) on_round(round + 1, rounds);
+    }
+
+    CaseResult result;
+    result.name = c.name;
+    result.unit = c.unit;
+    result.baseline_per_s = median(baseline_rates);
+    result.candidate_per_s = median(candidate_rates);
+    result.ratio = result.candidate_per_s / result.baseline_per_s;
+    result.target_ratio = c.target_ratio;
+    return result;
+}
+
+}  // namespace stepstone::bench

@@ -1,0 +1,44 @@
+#pragma once
+
+#include <functional>
+#include <string>
+
+#include "bench/registry.hpp"
+
+namespace stepstone::bench {
+
+/// How a case is timed.
+struct RunOptions {
+    Size size = Size::full;    ///< workload size passed to Case::make
+    int repetitions = 5;       ///< alternating baseline/candidate rounds (>= 1)
+    double min_seconds = 0.3;  ///< each side runs at least this long per round
+};
+
+/// Options for a normal run: paper-size workloads, 5 rounds of >= 0.3 s.
+RunOptions full_options();
+/// Options for `--quick`: reduced workloads, 3 rounds of >= 0.03 s, so the
+/// whole run stays within a few seconds.
+RunOptions quick_options();
+
+/// Throughput of both sides of one case.
+struct CaseResult {
+    std::string name;            ///< the case's name
+    std::string unit;            ///< the case's unit of work
+    double baseline_per_s = 0;   ///< median over rounds of baseline units per second
+    double candidate_per_s = 0;  ///< median over rounds of candidate units per second
+    double ratio = 0;            ///< candidate_per_s / baseline_per_s
+    double target_ratio = 0;     ///< the case's target
+};
+
+/// Called after each round with (rounds done, rounds in total).
+using RoundCallback = std::function<void(int, int)>;
+
+/// Builds the case's workload, runs one untimed call of each side (warm-up),
+/// then `repetitions` rounds that time the baseline and the candidate one
+/// after the other, alternating which goes first. Each side's rate in a round
+/// is units / seconds over as many calls as fit in `min_seconds` (at least
+/// one); the reported rate is the median over rounds. Throws std::logic_error
+/// if a side reports zero units.
+CaseResult run_case(const Case& c, const RunOptions& options, const RoundCallback& on_round = {});
+
+}  // namespace stepstone::bench
