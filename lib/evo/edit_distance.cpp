@@ -1,7 +1,9 @@
 #include "evo/edit_distance.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstring>
 
 #include "core/assert.hpp"
 
@@ -13,6 +15,23 @@ inline float min3(float a, float b, float c) {
     const float ab = b < a ? b : a;
     return c < ab ? c : ab;
 }
+
+// four float lanes with GCC's vector extensions (plain SSE2, no ABI change)
+typedef float V4 __attribute__((vector_size(16)));
+typedef std::int32_t M4 __attribute__((vector_size(16)));
+
+inline V4 load(const float* p) {
+    V4 v;
+    std::memcpy(&v, p, sizeof v);
+    return v;
+}
+
+inline void store(float* p, V4 v) { std::memcpy(p, &v, sizeof v); }
+
+// the same selection as min3, lane by lane
+inline V4 vmin(V4 a, V4 b) { return b < a ? b : a; }
+
+inline V4 vabs(V4 a) { return std::bit_cast<V4>(std::bit_cast<M4>(a) & 0x7fffffff); }
 
 }  // namespace
 
@@ -67,6 +86,7 @@ float edit_distance_full_table(std::span<const GridCell> a, std::span<const Grid
 void EditDistanceBatch::run(std::span<const GridCell* const> first, std::span<const GridCell* const> second,
                             std::size_t length, float* out) {
     constexpr std::size_t L = kLanes;
+    static_assert(L % 4 == 0);
     const std::size_t count = first.size();
     STEPSTONE_ASSERT(count == second.size() && count >= 1 && count <= L);
     const std::size_t n = length;
@@ -120,15 +140,16 @@ void EditDistanceBatch::run(std::span<const GridCell* const> first, std::span<co
             const float* cost_up = &previous_cost[j * L];
             float* cell = &current[j * L];
             float* cost_out = &current_cost[j * L];
-            const bool may_swap = i > 1 && j > 1;
-            for (std::size_t l = 0; l < L; ++l) {
-                const float cost = (std::fabs(ax[l] - bx[l]) + std::fabs(ay[l] - by[l])) / kGridTiles;
-                float d = min3(up[l] + 1.0f, left[l] + 1.0f, diagonal[l] + cost);
+            // four lanes per SSE vector; the swap test is a mask, not a branch
+            const float swap_blocked = i > 1 && j > 1 ? 0.0f : 1.0f;
+            for (std::size_t g = 0; g < L; g += 4) {
+                const V4 cost = (vabs(load(ax + g) - load(bx + g)) + vabs(load(ay + g) - load(by + g))) / kGridTiles;
+                const V4 d = vmin(vmin(load(up + g) + 1.0f, load(left + g) + 1.0f), load(diagonal + g) + cost);
                 // a[i-1] == b[j-2] and a[i-2] == b[j-1] are zero costs of the neighbours
-                const float swapped = far[l] + cost;
-                const bool swap = may_swap && cost_left[l] == 0.0f && cost_up[l] == 0.0f && swapped < d;
-                cell[l] = swap ? swapped : d;
-                cost_out[l] = cost;
+                const V4 swapped = load(far + g) + cost;
+                const M4 swap = (load(cost_left + g) + load(cost_up + g) + swap_blocked == 0.0f) & (swapped < d);
+                store(cell + g, swap ? swapped : d);
+                store(cost_out + g, cost);
             }
         }
         std::swap(before, previous);
