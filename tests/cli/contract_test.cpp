@@ -94,7 +94,10 @@ TEST_CASE("db migrate upgrades an old file and reports the versions", "[cli][db]
     CHECK_THAT(result.out, Contains("up to date"));
 }
 
-TEST_CASE("demo runs and exits 0", "[cli][demo]") {
-    auto result = test::run_cli({"demo"});
-    CHECK(result.exit_code == 0);
+TEST_CASE("demo without its example configs is a usage error", "[cli][demo][errors]") {
+    test::TempDir dir;
+    auto result = test::run_cli({"demo", "--dir", (dir / "out").string(), "--examples", (dir / "none").string()});
+    CHECK(result.exit_code == 2);
+    CHECK(result.err_lines().size() == 1);
+    CHECK_THAT(result.err, Contains("source_quick.json: no such file"));
 }
