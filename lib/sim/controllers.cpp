@@ -57,7 +57,7 @@ void ScriptedController::reset() {
     route_pos_ = 0;
     backing_ = 0;
     descending_ = false;
-    have_previous_ = false;
+    pushing_ = false;
 }
 
 void ScriptedController::plan(Point target) {
@@ -126,9 +126,10 @@ void ScriptedController::set_goal(Goal goal) {
 void ScriptedController::step(const float* inputs, float* outputs) {
     const bool carrying = inputs[11] > 0.5f;
     const bool bumped = inputs[9] > 0.5f || inputs[10] > 0.5f;
-    const bool blocked = have_previous_ && pose_.x == previous_.x && pose_.y == previous_.y;
+    // a forward drive that left the position unchanged was stopped by a wall
+    const bool blocked = pushing_ && pose_.x == previous_.x && pose_.y == previous_.y;
     previous_ = pose_;
-    have_previous_ = true;
+    pushing_ = false;
     outputs[2] = 0.0f;
 
     // after a release, back away from the wall before the next errand
@@ -189,6 +190,7 @@ void ScriptedController::step(const float* inputs, float* outputs) {
                 return;
             }
             drive_to({kBasketX, 395.0}, pose_.y < 350.0 ? 3.0 : 1.0, outputs);
+            pushing_ = outputs[0] > 0.5f && outputs[1] > 0.5f;
             return;
         }
     }

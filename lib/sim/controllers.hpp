@@ -62,7 +62,7 @@ private:
     TaskKind kind_;
     Pose pose_;
     Pose previous_;
-    bool have_previous_ = false;
+    bool pushing_ = false;
     Goal goal_ = Goal::press_switch;
     bool descending_ = false;
     int next_ball_ = 0;
