@@ -74,7 +74,9 @@ struct SegmentMatch {
 /// Every segment's match and the policy's r_max.
 struct Lookup {
     std::vector<SegmentMatch> segments;  ///< one per policy segment, in order
-    double r_max = 0.0;  ///< largest average_reward among segments (0 if none matched or the KB is empty)
+    /// The largest average_reward among the segments, where a segment without
+    /// a match counts 0; 0 for an empty KB or no segments.
+    double r_max = 0.0;
 };
 
 /// The paper's knowledge base (Doncieux, "Transfer learning for direct policy

@@ -1,0 +1,229 @@
+#include "kb/knowledge_base.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/assert.hpp"
+#include "core/error.hpp"
+#include "core/text.hpp"
+#include "kb/detail/number.hpp"
+#include "kb/distance.hpp"
+
+namespace stepstone::kb {
+
+void KbParams::validate() const {
+    if (!(delta > 0) || !std::isfinite(delta)) {
+        throw ConfigError(concat("delta must be > 0 and finite, got ", detail::number(delta)));
+    }
+    if (segment_width < 1) throw ConfigError(concat("segment_width must be >= 1, got ", segment_width));
+    if (channels < 1) throw ConfigError(concat("channels must be >= 1, got ", channels));
+}
+
+namespace {
+
+KbParams validated(KbParams params) {
+    params.validate();
+    return params;
+}
+
+// index of the first non-finite value, or values.size()
+std::size_t first_non_finite(std::span<const float> values) {
+    for (std::size_t k = 0; k < values.size(); ++k)
+        if (!std::isfinite(values[k])) return k;
+    return values.size();
+}
+
+}  // namespace
+
+KnowledgeBase::KnowledgeBase(KbParams params)
+    : params_(validated(params)), index_(params_.segment_width, params_.channels) {}
+
+KnowledgeBase::KnowledgeBase(const KnowledgeBase& other)
+    : params_(other.params_),
+      values_(other.values_),
+      records_(other.records_),
+      sources_(other.sources_),
+      index_(params_.segment_width, params_.channels) {
+    index_.assign(values_);
+}
+
+KnowledgeBase& KnowledgeBase::operator=(const KnowledgeBase& other) {
+    if (this != &other) {
+        KnowledgeBase copy(other);
+        *this = std::move(copy);
+    }
+    return *this;
+}
+
+KnowledgeBase::KnowledgeBase(KnowledgeBase&&) noexcept = default;
+KnowledgeBase& KnowledgeBase::operator=(KnowledgeBase&&) noexcept = default;
+KnowledgeBase::~KnowledgeBase() = default;
+
+KnowledgeBase KnowledgeBase::from_segments(KbParams params, std::vector<Source> sources,
+                                           std::span<const float> values,
+                                           std::span<const SegmentRecord> records) {
+    KnowledgeBase kb(params);
+    const std::size_t dim = kb.params_.dim();
+    if (values.size() != records.size() * dim) {
+        throw DataError(concat("knowledge base: ", values.size(), " values for ", records.size(),
+                               " segments of ", dim, " values"));
+    }
+    if (const std::size_t k = first_non_finite(values); k < values.size()) {
+        throw DataError(concat("knowledge base: segment ", k / dim, " has a non-finite value at position ",
+                               k % dim));
+    }
+    for (std::size_t i = 0; i < sources.size(); ++i) {
+        if (sources[i].run.empty()) throw DataError(concat("knowledge base: source ", i, " has an empty run name"));
+        for (std::size_t j = 0; j < i; ++j) {
+            if (sources[j].run == sources[i].run) {
+                throw DataError(concat("knowledge base: source '", sources[i].run, "' is listed twice"));
+            }
+        }
+    }
+    for (std::size_t i = 0; i < records.size(); ++i) {
+        const SegmentRecord& r = records[i];
+        if (r.count == 0) throw DataError(concat("knowledge base: segment ", i, " has count 0"));
+        if (!std::isfinite(r.cum_reward)) {
+            throw DataError(concat("knowledge base: segment ", i, " has a non-finite cum_reward"));
+        }
+        if (r.first.source >= sources.size() || r.last.source >= sources.size()) {
+            throw DataError(concat("knowledge base: segment ", i, " names source ",
+                                   std::max(r.first.source, r.last.source), " of ", sources.size()));
+        }
+    }
+    kb.values_.assign(values.begin(), values.end());
+    kb.records_.assign(records.begin(), records.end());
+    kb.sources_ = std::move(sources);
+    kb.index_.assign(kb.values_);
+    return kb;
+}
+
+std::span<const float> KnowledgeBase::segment(std::size_t id) const {
+    STEPSTONE_ASSERT(id < size());
+    return std::span<const float>(values_).subspan(id * params_.dim(), params_.dim());
+}
+
+double KnowledgeBase::max_average() const {
+    double best = 0.0;
+    bool any = false;
+    for (const SegmentRecord& r : records_) {
+        if (!any || r.average() > best) best = r.average();
+        any = true;
+    }
+    return best;
+}
+
+std::uint32_t KnowledgeBase::add_source(const std::string& run) {
+    if (run.empty()) throw DataError("knowledge base: a source needs a run name");
+    for (std::size_t i = 0; i < sources_.size(); ++i)
+        if (sources_[i].run == run) return static_cast<std::uint32_t>(i);
+    sources_.push_back(Source{run, 0, 0, 0});
+    return static_cast<std::uint32_t>(sources_.size() - 1);
+}
+
+void KnowledgeBase::check_segments(Segments segments) const {
+    if (segments.dim != params_.dim()) {
+        throw DataError(concat("segments have ", segments.dim, " values, the knowledge base uses ",
+                               params_.dim(), " (", params_.segment_width, " steps x ", params_.channels,
+                               " channels)"));
+    }
+    if (segments.values.size() % segments.dim != 0) {
+        throw DataError(concat("segments: ", segments.values.size(), " values is not a whole number of segments of ",
+                               segments.dim, " values"));
+    }
+    if (const std::size_t k = first_non_finite(segments.values); k < segments.values.size()) {
+        throw DataError(concat("segment ", k / segments.dim, " has a non-finite value at position ",
+                               k % segments.dim));
+    }
+}
+
+void KnowledgeBase::insert(const float* segment, const SegmentRecord& record) {
+    values_.insert(values_.end(), segment, segment + params_.dim());
+    records_.push_back(record);
+    index_.append(segment);
+}
+
+ObserveResult KnowledgeBase::observe(Segments segments, double reward, Origin origin) {
+    // validate everything before touching the KB
+    check_segments(segments);
+    if (!std::isfinite(reward)) throw DataError(concat("reward must be finite, got ", detail::number(reward)));
+    if (origin.source >= sources_.size()) {
+        throw DataError(concat("observation names source ", origin.source, ", the knowledge base has ",
+                               sources_.size()));
+    }
+
+    // the paper's rule, one segment at a time
+    ObserveResult result;
+    const std::size_t dim = params_.dim();
+    for (std::size_t i = 0; i < segments.size(); ++i) {
+        const float* s = segments.values.data() + i * dim;
+        const auto near = index_.nearest_within_adaptive(values_, s, params_.delta);
+        if (near) {
+            SegmentRecord& r = records_[near->id];
+            r.cum_reward += reward;
+            r.count += 1;
+            r.last = origin;
+            ++result.matched;
+        } else {
+            insert(s, SegmentRecord{reward, 1, origin, origin});
+            ++result.inserted;
+        }
+    }
+
+    // provenance of the source
+    Source& source = sources_[origin.source];
+    if (source.policies == 0) {
+        source.first_generation = origin.generation;
+        source.last_generation = origin.generation;
+    } else {
+        source.first_generation = std::min(source.first_generation, origin.generation);
+        source.last_generation = std::max(source.last_generation, origin.generation);
+    }
+    source.policies += 1;
+    return result;
+}
+
+SegmentMatch KnowledgeBase::match_of(const float* segment) const {
+    const auto near = params_.match == Match::nearest ? index_.nearest(values_, segment)
+                                                      : index_.nearest_within(values_, segment, params_.delta);
+    if (!near) return SegmentMatch{};
+    return SegmentMatch{near->id, std::sqrt(near->squared_distance), records_[near->id].average()};
+}
+
+Lookup KnowledgeBase::lookup(Segments segments) const {
+    check_segments(segments);
+    Lookup result;
+    result.segments.reserve(segments.size());
+    // a segment without a match contributes 0, so r_max is the largest of
+    // the per-segment average_reward values (0 for no segments)
+    for (std::size_t i = 0; i < segments.size(); ++i) {
+        result.segments.push_back(match_of(segments.values.data() + i * params_.dim()));
+        const double reward = result.segments.back().average_reward;
+        result.r_max = i == 0 ? reward : std::max(result.r_max, reward);
+    }
+    return result;
+}
+
+double KnowledgeBase::r_max(Segments segments) const {
+    check_segments(segments);
+    double best = 0.0;
+    for (std::size_t i = 0; i < segments.size(); ++i) {
+        const double reward = match_of(segments.values.data() + i * params_.dim()).average_reward;
+        best = i == 0 ? reward : std::max(best, reward);
+    }
+    return best;
+}
+
+std::optional<Neighbour> KnowledgeBase::nearest(std::span<const float> segment) const {
+    if (segment.size() != params_.dim()) {
+        throw DataError(concat("segment has ", segment.size(), " values, the knowledge base uses ", params_.dim()));
+    }
+    check_segments(Segments{segment, params_.dim()});
+    return index_.nearest(values_, segment.data());
+}
+
+double KnowledgeBase::bytes_per_segment() const {
+    return static_cast<double>(params_.dim() * sizeof(float) + sizeof(SegmentRecord)) + index_.bytes_per_segment();
+}
+
+}  // namespace stepstone::kb

@@ -1,0 +1,87 @@
+// KnowledgeBase::merge and KnowledgeBase::randomized: the two ways of making
+// a KB out of others (kb merge, kb randomize).
+
+#include <algorithm>
+#include <vector>
+
+#include "core/error.hpp"
+#include "core/rng.hpp"
+#include "core/text.hpp"
+#include "kb/detail/number.hpp"
+#include "kb/knowledge_base.hpp"
+
+namespace stepstone::kb {
+
+namespace {
+
+void check_compatible(const KbParams& a, const KbParams& b) {
+    if (a.segment_width != b.segment_width) {
+        throw DataError(concat("cannot merge: segment_width is ", a.segment_width, " in the target, ",
+                               b.segment_width, " in the merged knowledge base"));
+    }
+    if (a.channels != b.channels) {
+        throw DataError(concat("cannot merge: channels is ", a.channels, " in the target, ", b.channels,
+                               " in the merged knowledge base"));
+    }
+    if (a.delta != b.delta) {
+        throw DataError(concat("cannot merge: delta is ", detail::number(a.delta), " in the target, ",
+                               detail::number(b.delta), " in the merged knowledge base"));
+    }
+}
+
+}  // namespace
+
+void KnowledgeBase::merge(const KnowledgeBase& other) {
+    check_compatible(params_, other.params_);
+    if (&other == this) {
+        const KnowledgeBase copy(other);
+        merge(copy);
+        return;
+    }
+
+    // sources: same run name, same source; the others are appended
+    std::vector<std::uint32_t> source_map(other.sources_.size());
+    for (std::size_t i = 0; i < other.sources_.size(); ++i) {
+        const Source& theirs = other.sources_[i];
+        const std::uint32_t mine = add_source(theirs.run);
+        Source& s = sources_[mine];
+        if (s.policies == 0) {
+            s.first_generation = theirs.first_generation;
+            s.last_generation = theirs.last_generation;
+        } else if (theirs.policies > 0) {
+            s.first_generation = std::min(s.first_generation, theirs.first_generation);
+            s.last_generation = std::max(s.last_generation, theirs.last_generation);
+        }
+        s.policies += theirs.policies;
+        source_map[i] = mine;
+    }
+    auto remap = [&](Origin o) { return Origin{source_map[o.source], o.generation}; };
+
+    // the other KB's segments observed one by one, carrying their statistics
+    const std::size_t dim = params_.dim();
+    for (std::size_t i = 0; i < other.size(); ++i) {
+        const float* s = other.values_.data() + i * dim;
+        const SegmentRecord& theirs = other.records_[i];
+        const auto near = index_.nearest_within_adaptive(values_, s, params_.delta);
+        if (near) {
+            SegmentRecord& r = records_[near->id];
+            r.cum_reward += theirs.cum_reward;
+            r.count += theirs.count;
+            r.last = remap(theirs.last);
+        } else {
+            insert(s, SegmentRecord{theirs.cum_reward, theirs.count, remap(theirs.first), remap(theirs.last)});
+        }
+    }
+}
+
+KnowledgeBase KnowledgeBase::randomized(std::uint64_t seed) const {
+    KnowledgeBase copy(*this);
+    Rng rng(seed, 0, 0, Purpose::kb_randomize);
+    for (SegmentRecord& r : copy.records_) {
+        r.cum_reward = rng.uniform();
+        r.count = 1;
+    }
+    return copy;
+}
+
+}  // namespace stepstone::kb

@@ -1,0 +1,314 @@
+#include "kb/segment_index.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <utility>
+
+#include <nanoflann.hpp>
+
+#include "core/assert.hpp"
+#include "core/error.hpp"
+#include "core/text.hpp"
+#include "kb/distance.hpp"
+
+namespace stepstone::kb {
+
+namespace {
+
+// appended segments scanned linearly before they become a tree
+constexpr std::size_t kBufferSize = 64;
+constexpr std::size_t kLeafSize = 16;
+// relative safety pad on lower bounds, far above their rounding (~1e-15)
+constexpr double kPadRelative = 1e-9;
+// brute force takes over when recent queries see more than this fraction of
+// the KB as candidates, and hands back below the second (hysteresis)
+constexpr double kBruteAbove = 0.3;
+constexpr double kTreeBelow = 0.15;
+constexpr double kFractionDecay = 0.98;
+
+// the points of one contiguous id range, as nanoflann's dataset interface
+struct PointRange {
+    const std::vector<double>* points = nullptr;
+    std::size_t begin = 0;
+    std::size_t count = 0;
+    std::size_t dim = 0;
+
+    std::size_t kdtree_get_point_count() const { return count; }
+    double kdtree_get_pt(std::size_t i, std::size_t d) const { return (*points)[(begin + i) * dim + d]; }
+    template <class Box>
+    bool kdtree_get_bbox(Box&) const {
+        return false;
+    }
+};
+
+using Tree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PointRange, double, std::size_t>,
+                                                 PointRange, -1, std::size_t>;
+
+// a candidate: squared lower bound on its distance, and its id
+using Candidate = std::pair<double, std::size_t>;
+
+// nanoflann result set collecting every point below a squared radius, with
+// ids shifted to global ids
+struct Collector {
+    double radius_sq;
+    std::size_t offset;
+    std::vector<Candidate>* out;
+
+    std::size_t size() const { return out->size(); }
+    bool full() const { return true; }
+    bool addPoint(double dist_sq, std::size_t index) {
+        if (dist_sq < radius_sq) out->emplace_back(dist_sq, offset + index);
+        return true;
+    }
+    double worstDist() const { return radius_sq; }
+};
+
+// squared lower bound of a computed distance from a computed bound: the pad
+// absorbs the rounding of both
+double safe_lower_sq(double bound_sq, double pad) {
+    const double b = std::sqrt(bound_sq) - pad;
+    return b > 0 ? b * b : 0.0;
+}
+
+// the best answer so far: smallest squared distance, ties to the lowest id
+struct Best {
+    bool found = false;
+    Neighbour n;
+
+    void offer(std::size_t id, double d2) {
+        if (!found || d2 < n.squared_distance || (d2 == n.squared_distance && id < n.id)) {
+            found = true;
+            n = {id, d2};
+        }
+    }
+};
+
+}  // namespace
+
+struct SegmentIndex::Level {
+    PointRange range;
+    std::unique_ptr<Tree> tree;
+
+    Level(const std::vector<double>* points, std::size_t begin, std::size_t end, std::size_t channels)
+        : range{points, begin, end - begin, channels},
+          tree(std::make_unique<Tree>(channels, range, nanoflann::KDTreeSingleIndexAdaptorParams(kLeafSize))) {}
+
+    std::size_t begin() const { return range.begin; }
+    std::size_t end() const { return range.begin + range.count; }
+};
+
+// a query's lower-bound point and the pad its magnitude requires
+struct SegmentIndex::Search {
+    std::vector<double> point;
+    double pad = 0.0;
+};
+
+SegmentIndex::SegmentIndex(std::size_t width, std::size_t channels)
+    : width_(width), channels_(channels), points_(std::make_unique<std::vector<double>>()) {
+    if (width == 0) throw ConfigError("segment_width must be >= 1, got 0");
+    if (channels == 0) throw ConfigError("channels must be >= 1, got 0");
+}
+
+SegmentIndex::~SegmentIndex() = default;
+SegmentIndex::SegmentIndex(SegmentIndex&&) noexcept = default;
+SegmentIndex& SegmentIndex::operator=(SegmentIndex&&) noexcept = default;
+
+namespace {
+
+// the channel means scaled by sqrt(width), written to `out`; returns the
+// largest absolute value of the segment
+double lower_bound_point(const float* segment, std::size_t width, std::size_t channels, double* out) {
+    double max_abs = 0.0;
+    for (std::size_t c = 0; c < channels; ++c) out[c] = 0.0;
+    for (std::size_t t = 0; t < width; ++t) {
+        const float* row = segment + t * channels;
+        for (std::size_t c = 0; c < channels; ++c) {
+            const double v = row[c];
+            out[c] += v;
+            max_abs = std::max(max_abs, std::fabs(v));
+        }
+    }
+    const double scale = 1.0 / std::sqrt(static_cast<double>(width));
+    // sum / w * sqrt(w) = sum / sqrt(w)
+    for (std::size_t c = 0; c < channels; ++c) out[c] *= scale;
+    return max_abs;
+}
+
+double squared_gap(const double* a, const double* b, std::size_t n) {
+    double s = 0.0;
+    for (std::size_t k = 0; k < n; ++k) {
+        const double d = a[k] - b[k];
+        s += d * d;
+    }
+    return s;
+}
+
+}  // namespace
+
+void SegmentIndex::add_point(const float* segment) {
+    std::vector<double>& points = *points_;
+    points.resize(points.size() + channels_);
+    const double max_abs = lower_bound_point(segment, width_, channels_, points.data() + size_ * channels_);
+    max_abs_ = std::max(max_abs_, max_abs);
+    ++size_;
+}
+
+void SegmentIndex::append(const float* segment) {
+    add_point(segment);
+    grow_levels();
+}
+
+void SegmentIndex::assign(std::span<const float> values) {
+    STEPSTONE_ASSERT(values.size() % dim() == 0);
+    const std::size_t count = values.size() / dim();
+    levels_.clear();
+    points_->clear();
+    points_->reserve(count * channels_);
+    size_ = 0;
+    max_abs_ = 0.0;
+    for (std::size_t i = 0; i < count; ++i) add_point(values.data() + i * dim());
+    if (count > 0) {
+        levels_.push_back(std::make_unique<Level>(points_.get(), 0, count, channels_));
+        ++stats_.rebuilds;
+        stats_.rebuilt_points += count;
+    }
+}
+
+void SegmentIndex::grow_levels() {
+    const std::size_t indexed = levels_.empty() ? 0 : levels_.back()->end();
+    if (size_ - indexed < kBufferSize) return;
+    // the buffer becomes a level; absorb the previous levels while the new
+    // one is at least half their size, then build a single tree
+    std::size_t begin = indexed;
+    while (!levels_.empty() && 2 * (size_ - begin) >= levels_.back()->range.count) {
+        begin = levels_.back()->begin();
+        levels_.pop_back();
+    }
+    levels_.push_back(std::make_unique<Level>(points_.get(), begin, size_, channels_));
+    ++stats_.rebuilds;
+    stats_.rebuilt_points += size_ - begin;
+}
+
+double SegmentIndex::bytes_per_segment() const {
+    // lower-bound point, nanoflann's index permutation, about two nodes per leaf
+    constexpr double kNodeBytes = 48.0;
+    return static_cast<double>(channels_ * sizeof(double) + sizeof(std::size_t)) + 2.0 * kNodeBytes / kLeafSize;
+}
+
+std::optional<Neighbour> SegmentIndex::search_within(std::span<const float> values, const float* query,
+                                                     double radius, bool brute,
+                                                     std::size_t* candidates) const {
+    STEPSTONE_ASSERT(values.size() >= size_ * dim());
+    const std::size_t n_dim = dim();
+    std::vector<double> q(channels_);
+    const double q_abs = lower_bound_point(query, width_, channels_, q.data());
+    const double pad = kPadRelative * (1.0 + std::max(max_abs_, q_abs)) * std::sqrt(static_cast<double>(n_dim));
+    const double radius_sq = radius * radius;
+    const double search_sq = (radius + pad) * (radius + pad);
+    const double* points = points_->data();
+    Best best;
+
+    if (brute) {
+        // id order: a later segment at an equal distance never wins
+        std::size_t seen = 0;
+        for (std::size_t id = 0; id < size_; ++id) {
+            const double lb = squared_gap(q.data(), points + id * channels_, channels_);
+            if (!(lb < search_sq)) continue;
+            ++seen;
+            const double bound = best.found ? best.n.squared_distance : radius_sq;
+            if (safe_lower_sq(lb, pad) > bound) continue;
+            const double d2 = squared_distance_up_to(query, values.data() + id * n_dim, n_dim, bound);
+            if (d2 < radius_sq) best.offer(id, d2);
+        }
+        if (candidates) *candidates = seen;
+    } else {
+        // candidates from every tree and from the buffer
+        std::vector<Candidate> found;
+        nanoflann::SearchParams params(32, 0.0f, false);
+        for (const auto& level : levels_) {
+            Collector collector{search_sq, level->begin(), &found};
+            level->tree->findNeighbors(collector, q.data(), params);
+        }
+        const std::size_t indexed = levels_.empty() ? 0 : levels_.back()->end();
+        for (std::size_t id = indexed; id < size_; ++id) {
+            const double lb = squared_gap(q.data(), points + id * channels_, channels_);
+            if (lb < search_sq) found.emplace_back(lb, id);
+        }
+        if (candidates) *candidates = found.size();
+
+        // exact checks in increasing lower bound; stop once the bound passes the best
+        for (auto& c : found) c.first = safe_lower_sq(c.first, pad);
+        std::sort(found.begin(), found.end());
+        for (const auto& [lower, id] : found) {
+            const double bound = best.found ? best.n.squared_distance : radius_sq;
+            if (lower > bound) break;
+            const double d2 = squared_distance_up_to(query, values.data() + id * n_dim, n_dim, bound);
+            if (d2 < radius_sq) best.offer(id, d2);
+        }
+    }
+    if (!best.found) return std::nullopt;
+    return best.n;
+}
+
+std::optional<Neighbour> SegmentIndex::nearest_within(std::span<const float> values, const float* query,
+                                                      double radius) const {
+    return search_within(values, query, radius, brute_force_, nullptr);
+}
+
+std::optional<Neighbour> SegmentIndex::nearest_within_adaptive(std::span<const float> values,
+                                                               const float* query, double radius) {
+    std::size_t seen = 0;
+    auto result = search_within(values, query, radius, brute_force_, &seen);
+
+    // learn whether the lower bounds prune on this data
+    ++stats_.queries;
+    stats_.exact_checks += seen;
+    if (brute_force_) ++stats_.linear_queries;
+    if (size_ > 0) {
+        const double fraction = static_cast<double>(seen) / static_cast<double>(size_);
+        candidate_fraction_ = kFractionDecay * candidate_fraction_ + (1.0 - kFractionDecay) * fraction;
+        if (!brute_force_ && candidate_fraction_ > kBruteAbove) brute_force_ = true;
+        if (brute_force_ && candidate_fraction_ < kTreeBelow) brute_force_ = false;
+    }
+    return result;
+}
+
+std::optional<Neighbour> SegmentIndex::nearest(std::span<const float> values, const float* query) const {
+    if (size_ == 0) return std::nullopt;
+    const std::size_t n_dim = dim();
+
+    // an upper bound: the exact distance of the lower-bound nearest of each
+    // tree, and of the first buffered segment
+    Best best;
+    std::vector<double> q(channels_);
+    lower_bound_point(query, width_, channels_, q.data());
+    for (const auto& level : levels_) {
+        std::size_t local = 0;
+        double lb = 0.0;
+        nanoflann::KNNResultSet<double, std::size_t> result(1);
+        result.init(&local, &lb);
+        level->tree->findNeighbors(result, q.data(), nanoflann::SearchParams());
+        const std::size_t id = level->begin() + local;
+        best.offer(id, squared_distance(query, values.data() + id * n_dim, n_dim));
+    }
+    const std::size_t indexed = levels_.empty() ? 0 : levels_.back()->end();
+    if (indexed < size_) best.offer(indexed, squared_distance(query, values.data() + indexed * n_dim, n_dim));
+    STEPSTONE_ASSERT(best.found);
+
+    // every segment at most that far is within a radius whose square exceeds it
+    double radius = std::max(std::sqrt(best.n.squared_distance), 1e-150);
+    while (!(radius * radius > best.n.squared_distance)) radius = std::nextafter(radius, HUGE_VAL);
+    if (!std::isfinite(radius)) {
+        // distances beyond double range: compare every segment
+        Best all;
+        for (std::size_t id = 0; id < size_; ++id)
+            all.offer(id, squared_distance(query, values.data() + id * n_dim, n_dim));
+        return all.n;
+    }
+    auto within = search_within(values, query, radius, brute_force_, nullptr);
+    STEPSTONE_ASSERT(within.has_value());
+    return within;
+}
+
+}  // namespace stepstone::kb

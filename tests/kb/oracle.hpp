@@ -1,0 +1,102 @@
+#pragma once
+
+// A plain knowledge base written straight from the paper's rule (section II.B)
+// with a linear scan, and the data sets the kb tests feed to both.
+
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <utility>
+#include <vector>
+
+#include "core/rng.hpp"
+
+namespace kbtest {
+
+/// The documented distance order (kb/distance.hpp): value k goes to lane
+/// k % 8, lanes summed as ((l0 + l1) + (l2 + l3)) + ((l4 + l5) + (l6 + l7)).
+inline double oracle_squared_distance(const float* a, const float* b, std::size_t dim) {
+    double lane[8] = {};
+    for (std::size_t k = 0; k < dim; ++k) {
+        const double d = static_cast<double>(a[k]) - static_cast<double>(b[k]);
+        lane[k % 8] += d * d;
+    }
+    return ((lane[0] + lane[1]) + (lane[2] + lane[3])) + ((lane[4] + lane[5]) + (lane[6] + lane[7]));
+}
+
+/// Linear-scan nearest: smallest squared distance, the first (lowest id) on ties.
+inline std::optional<std::pair<std::size_t, double>> oracle_nearest(const std::vector<float>& values,
+                                                                    std::size_t dim, const float* query) {
+    std::optional<std::pair<std::size_t, double>> best;
+    for (std::size_t id = 0; id * dim < values.size(); ++id) {
+        const double d2 = oracle_squared_distance(query, values.data() + id * dim, dim);
+        if (!best || d2 < best->second) best = std::make_pair(id, d2);
+    }
+    return best;
+}
+
+/// The paper's knowledge base, one segment at a time, by linear scan.
+struct OracleKb {
+    std::size_t dim = 0;
+    double delta = 0;
+    std::vector<float> values;
+    std::vector<double> cum_reward;
+    std::vector<std::uint64_t> count;
+
+    std::size_t size() const { return count.size(); }
+
+    /// The nearest within delta: squared distance < delta * delta.
+    std::optional<std::pair<std::size_t, double>> within(const float* q) const {
+        auto best = oracle_nearest(values, dim, q);
+        if (best && best->second < delta * delta) return best;
+        return std::nullopt;
+    }
+
+    void add(const float* s, double cum, std::uint64_t n) {
+        if (auto m = within(s)) {
+            cum_reward[m->first] += cum;
+            count[m->first] += n;
+        } else {
+            values.insert(values.end(), s, s + dim);
+            cum_reward.push_back(cum);
+            count.push_back(n);
+        }
+    }
+
+    void observe(const std::vector<float>& segments, double reward) {
+        for (std::size_t i = 0; i * dim < segments.size(); ++i) add(segments.data() + i * dim, reward, 1);
+    }
+};
+
+/// `n` segments of `dim` values uniform in [0, 1).
+inline std::vector<float> uniform_segments(stepstone::Rng& rng, std::size_t n, std::size_t dim) {
+    std::vector<float> v(n * dim);
+    for (float& x : v) x = static_cast<float>(rng.uniform());
+    return v;
+}
+
+/// `n` segments of `dim` values scattered with per-value spread `spread`
+/// around `centres` random centres in [0, 1)^dim (a few distinct behaviours
+/// with noise).
+inline std::vector<float> clustered_segments(stepstone::Rng& rng, std::size_t n, std::size_t dim,
+                                             std::size_t centres, double spread) {
+    std::vector<float> c = uniform_segments(rng, centres, dim);
+    std::vector<float> v(n * dim);
+    for (std::size_t i = 0; i < n; ++i) {
+        const std::size_t k = static_cast<std::size_t>(rng.below(centres));
+        for (std::size_t d = 0; d < dim; ++d)
+            v[i * dim + d] = c[k * dim + d] + static_cast<float>(rng.uniform(-spread, spread));
+    }
+    return v;
+}
+
+/// Values on a coarse grid (multiples of 1/4): many exact ties and distances
+/// exactly equal to a delta of the same grid.
+inline std::vector<float> grid_segments(stepstone::Rng& rng, std::size_t n, std::size_t dim, int levels) {
+    std::vector<float> v(n * dim);
+    for (float& x : v) x = static_cast<float>(rng.below(static_cast<std::uint64_t>(levels))) * 0.25f;
+    return v;
+}
+
+}  // namespace kbtest
