@@ -52,7 +52,7 @@ void Episode::begin_start(int index) {
     // so the first inputs of starts 2 and 3 still see the previous start's
     // door and lights (ORIGINAL.md 1.5)
     pose_ = task_->start_pose(index);
-    sense(task_->arena(), task_->lights(), pose_, state_, readings_);
+    sense(task_->arena(), task_->sight(), pose_, state_, readings_);
     carrying_ = false;
 
     // reinit_simu: flags cleared, door and lights as at set-up, switch armed
@@ -97,7 +97,7 @@ void Episode::act(float* outputs) {
     // stand-still rule: the count is never reset and ends the whole evaluation
     if (is_still(before, pose_) && ++still_steps_ > task_->config().still_limit) stopped_ = true;
 
-    sense(task_->arena(), task_->lights(), pose_, state_, readings_);
+    sense(task_->arena(), task_->sight(), pose_, state_, readings_);
     ++step_;
     ++steps_run_;
 }
@@ -168,7 +168,7 @@ void Episode::move(float left_output, float right_output) {
 
 void Episode::set_pose(const Pose& pose) {
     pose_ = pose;
-    sense(task_->arena(), task_->lights(), pose_, state_, readings_);
+    sense(task_->arena(), task_->sight(), pose_, state_, readings_);
 }
 
 EpisodeResult Episode::finish() {

@@ -3,6 +3,7 @@
 #include <array>
 #include <cstdint>
 #include <span>
+#include <vector>
 
 #include "sim/arena.hpp"
 #include "sim/robot.hpp"
@@ -47,6 +48,36 @@ struct SensorReadings {
 inline constexpr std::array<double, 3> kLaserAngles{kPi / 4, -kPi / 4, 0.0};
 /// Bearing (radians) of the two sensors of each colour, + first.
 inline constexpr std::array<double, 2> kLightSensorAngles{kPi / 4, -kPi / 4};
+
+/// Line-of-sight candidates, precomputed: for each light and each 10 x 10
+/// cell of robot positions, the walls that can cross a segment from the light
+/// to a point of the cell (separating-axis test of the light-cell hull against
+/// each wall). Most entries are empty, so most sight lines cost nothing; the
+/// others test only their few candidates exactly. Immutable once built.
+class SightTable {
+public:
+    /// Side of a cell, in units.
+    static constexpr double kCell = 10.0;
+    static constexpr int kColumns = 60;  ///< 600 units
+    static constexpr int kRows = 40;     ///< 400 units
+
+    /// Throws DataError when there are more than kMaxLights lights.
+    SightTable(const Arena& arena, std::span<const Light> lights);
+
+    std::span<const Light> lights() const { return lights_; }
+    /// Walls (bit i = arena.walls()[i]) that may block the sight line from
+    /// light `index` to (x, y); every wall when (x, y) is off the grid.
+    std::uint32_t candidates(std::size_t index, double x, double y) const;
+
+private:
+    std::vector<Light> lights_;
+    std::vector<std::uint16_t> masks_;  // [light][row][column]
+};
+
+/// Readings at `pose` with the fast geometry and precomputed sight lines;
+/// same results as the overload below. The hot path.
+void sense(const Arena& arena, const SightTable& sight, const Pose& pose, const WorldState& state,
+           SensorReadings& out);
 
 /// Readings at `pose` with the fast geometry. Lasers are exact ray/box
 /// distances; a light sensor fires when a lit light of its colour lies strictly

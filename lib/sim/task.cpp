@@ -28,6 +28,7 @@ Task::Task(const TaskConfig& config, std::vector<Light> lights, std::uint32_t in
            int switch_index, int spawn_ball_index)
     : config_(config),
       lights_(std::move(lights)),
+      sight_(arena_, lights_),
       initial_lit_(initial_lit),
       door_starts_open_(door_starts_open),
       switch_index_(switch_index),

@@ -51,6 +51,8 @@ public:
     const Arena& arena() const { return arena_; }
     /// Lights in index order: balls first, then basket lights, then the switch.
     std::span<const Light> lights() const { return lights_; }
+    /// Precomputed sight-line candidates of the lights (the sensors' hot path).
+    const SightTable& sight() const { return sight_; }
     /// Lights on at each start (bit i = light i).
     std::uint32_t initial_lit() const { return initial_lit_; }
     /// True when the door is open for the whole evaluation (target task).
@@ -73,6 +75,7 @@ private:
     TaskConfig config_;
     Arena arena_;
     std::vector<Light> lights_;
+    SightTable sight_;
     std::uint32_t initial_lit_;
     bool door_starts_open_;
     int switch_index_;
