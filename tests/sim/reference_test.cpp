@@ -30,6 +30,7 @@ TEST_CASE("Box2D reference and fast geometry agree on lasers, lights and contact
     constexpr int kPoses = 100'000;
     int laser_mismatch = 0;
     int light_mismatch = 0;
+    int table_mismatch = 0;
     int contact_mismatch = 0;
     int bumper_mismatch = 0;
     int contacts = 0;
@@ -53,6 +54,10 @@ TEST_CASE("Box2D reference and fast geometry agree on lasers, lights and contact
             if (!both_miss && ((fast.laser[k] < 0) != (reference.laser[k] < 0) || gap > 0.01)) ++laser_mismatch;
         }
         if (fast.light != reference.light) ++light_mismatch;
+        // the episode's path: sight lines restricted to precomputed candidate walls
+        SensorReadings tabled;
+        sense(arena, task->sight(), pose, state, tabled);
+        if (tabled.light != fast.light || tabled.laser != fast.laser) ++table_mismatch;
 
         const Contact a = arena.contact(pose, state.door_open);
         const Contact b = world.contact(pose, state.door_open);
@@ -69,6 +74,7 @@ TEST_CASE("Box2D reference and fast geometry agree on lasers, lights and contact
     // at most 0.01 % of poses may differ (grazing rays and contacts)
     CHECK(laser_mismatch <= kPoses / 10'000);
     CHECK(light_mismatch <= kPoses / 10'000);
+    CHECK(table_mismatch == 0);
     CHECK(contact_mismatch <= kPoses / 10'000);
     CHECK(bumper_mismatch <= kPoses / 10'000);
 }
