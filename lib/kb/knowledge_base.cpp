@@ -152,12 +152,36 @@ ObserveResult KnowledgeBase::observe(Segments segments, double reward, Origin or
                                sources_.size()));
     }
 
-    // the paper's rule, one segment at a time
+    // on the brute-force path, the whole policy is first searched against
+    // the KB as it was before the call (one pass over the KB); the segments
+    // this call inserts are checked one by one below. They have higher ids, so
+    // they win only when strictly closer, which is what the sequential rule gives
     ObserveResult result;
     const std::size_t dim = params_.dim();
+    const std::size_t before = size();
+    const bool batched = index_.brute_force() && segments.size() > 1;
+    std::vector<std::optional<Neighbour>> snapshot;
+    if (batched) {
+        snapshot.resize(segments.size());
+        index_.nearest_within_batch_adaptive(values_, segments.values.data(), segments.size(), params_.delta,
+                                             snapshot);
+    }
+
+    // the paper's rule, one segment at a time
+    const double delta_sq = params_.delta * params_.delta;
     for (std::size_t i = 0; i < segments.size(); ++i) {
         const float* s = segments.values.data() + i * dim;
-        const auto near = index_.nearest_within_adaptive(values_, s, params_.delta);
+        std::optional<Neighbour> near;
+        if (batched) {
+            near = snapshot[i];
+            for (std::size_t id = before; id < size(); ++id) {
+                const double bound = near ? near->squared_distance : delta_sq;
+                const double d2 = squared_distance_up_to(s, values_.data() + id * dim, dim, bound);
+                if (d2 < delta_sq && (!near || d2 < near->squared_distance)) near = Neighbour{id, d2};
+            }
+        } else {
+            near = index_.nearest_within_adaptive(values_, s, params_.delta);
+        }
         if (near) {
             SegmentRecord& r = records_[near->id];
             r.cum_reward += reward;
@@ -190,29 +214,37 @@ SegmentMatch KnowledgeBase::match_of(const float* segment) const {
     return SegmentMatch{near->id, std::sqrt(near->squared_distance), records_[near->id].average()};
 }
 
+std::vector<SegmentMatch> KnowledgeBase::matches_of(Segments segments) const {
+    std::vector<SegmentMatch> out;
+    out.reserve(segments.size());
+    if (params_.match == Match::within_delta && index_.brute_force() && segments.size() > 1) {
+        // one pass over the KB for the whole policy
+        std::vector<std::optional<Neighbour>> near(segments.size());
+        index_.nearest_within_batch(values_, segments.values.data(), segments.size(), params_.delta, near);
+        for (const auto& n : near) {
+            out.push_back(n ? SegmentMatch{n->id, std::sqrt(n->squared_distance), records_[n->id].average()}
+                            : SegmentMatch{});
+        }
+        return out;
+    }
+    for (std::size_t i = 0; i < segments.size(); ++i) out.push_back(match_of(segments.values.data() + i * params_.dim()));
+    return out;
+}
+
 Lookup KnowledgeBase::lookup(Segments segments) const {
     check_segments(segments);
     Lookup result;
-    result.segments.reserve(segments.size());
+    result.segments = matches_of(segments);
     // a segment without a match contributes 0, so r_max is the largest of
     // the per-segment average_reward values (0 for no segments)
-    for (std::size_t i = 0; i < segments.size(); ++i) {
-        result.segments.push_back(match_of(segments.values.data() + i * params_.dim()));
-        const double reward = result.segments.back().average_reward;
+    for (std::size_t i = 0; i < result.segments.size(); ++i) {
+        const double reward = result.segments[i].average_reward;
         result.r_max = i == 0 ? reward : std::max(result.r_max, reward);
     }
     return result;
 }
 
-double KnowledgeBase::r_max(Segments segments) const {
-    check_segments(segments);
-    double best = 0.0;
-    for (std::size_t i = 0; i < segments.size(); ++i) {
-        const double reward = match_of(segments.values.data() + i * params_.dim()).average_reward;
-        best = i == 0 ? reward : std::max(best, reward);
-    }
-    return best;
-}
+double KnowledgeBase::r_max(Segments segments) const { return lookup(segments).r_max; }
 
 std::optional<Neighbour> KnowledgeBase::nearest(std::span<const float> segment) const {
     if (segment.size() != params_.dim()) {

@@ -172,6 +172,7 @@ private:
     void check_segments(Segments segments) const;
     void insert(const float* segment, const SegmentRecord& record);
     SegmentMatch match_of(const float* segment) const;
+    std::vector<SegmentMatch> matches_of(Segments segments) const;
 
     KbParams params_;
     std::vector<float> values_;

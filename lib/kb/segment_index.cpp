@@ -135,13 +135,45 @@ double lower_bound_point(const float* segment, std::size_t width, std::size_t ch
     return max_abs;
 }
 
+// squared distance of lower-bound points; four partial sums let it
+// vectorise, and the pad covers any rounding difference
 double squared_gap(const double* a, const double* b, std::size_t n) {
-    double s = 0.0;
-    for (std::size_t k = 0; k < n; ++k) {
+    double s[4] = {};
+    std::size_t k = 0;
+    for (; k + 4 <= n; k += 4)
+        for (std::size_t j = 0; j < 4; ++j) {
+            const double d = a[k + j] - b[k + j];
+            s[j] += d * d;
+        }
+    for (std::size_t j = 0; k < n; ++k, ++j) {
         const double d = a[k] - b[k];
-        s += d * d;
+        s[j] += d * d;
     }
-    return s;
+    return (s[0] + s[1]) + (s[2] + s[3]);
+}
+
+// values covered by the single-precision prefilter of the brute-force path
+constexpr std::size_t kPrefilterValues = 32;
+// above this magnitude float squares could overflow: no prefilter
+constexpr double kPrefilterMaxAbs = 1e15;
+
+// sum of squared differences of the first values in float, eight lanes; a
+// rejection test only: it is within 35 float ulps (relative) of the true
+// partial sum, which never exceeds the full distance
+float prefix_gap(const float* a, const float* b) {
+    static_assert(kPrefilterValues % 8 == 0);
+    float s[8] = {};
+    for (std::size_t k = 0; k < kPrefilterValues; k += 8)
+        for (std::size_t j = 0; j < 8; ++j) {
+            const float d = a[k + j] - b[k + j];
+            s[j] += d * d;
+        }
+    return ((s[0] + s[1]) + (s[2] + s[3])) + ((s[4] + s[5]) + (s[6] + s[7]));
+}
+
+// true if the prefix sum proves the computed double distance exceeds bound
+bool prefix_exceeds(float prefix, double bound) {
+    return static_cast<double>(prefix) > bound * (1.0 + 1e-5) + 1e-30;
 }
 
 }  // namespace
@@ -210,18 +242,22 @@ std::optional<Neighbour> SegmentIndex::search_within(std::span<const float> valu
     Best best;
 
     if (brute) {
-        // id order: a later segment at an equal distance never wins
+        // id order, so a later segment at an equal distance never wins; a
+        // float sum over the first values rejects most segments cheaply, and
+        // lower bounds are counted on a sample of queries only (to notice
+        // when pruning works again)
+        const bool prefilter = std::max(max_abs_, q_abs) < kPrefilterMaxAbs && n_dim > kPrefilterValues;
+        const bool count = candidates != nullptr && stats_.queries % 16 == 0;
         std::size_t seen = 0;
         for (std::size_t id = 0; id < size_; ++id) {
-            const double lb = squared_gap(q.data(), points + id * channels_, channels_);
-            if (!(lb < search_sq)) continue;
-            ++seen;
+            if (count && squared_gap(q.data(), points + id * channels_, channels_) < search_sq) ++seen;
             const double bound = best.found ? best.n.squared_distance : radius_sq;
-            if (safe_lower_sq(lb, pad) > bound) continue;
-            const double d2 = squared_distance_up_to(query, values.data() + id * n_dim, n_dim, bound);
+            const float* s = values.data() + id * n_dim;
+            if (prefilter && prefix_exceeds(prefix_gap(query, s), bound)) continue;
+            const double d2 = squared_distance_up_to(query, s, n_dim, bound);
             if (d2 < radius_sq) best.offer(id, d2);
         }
-        if (candidates) *candidates = seen;
+        if (candidates) *candidates = count ? seen : static_cast<std::size_t>(candidate_fraction_ * static_cast<double>(size_));
     } else {
         // candidates from every tree and from the buffer
         std::vector<Candidate> found;
@@ -256,21 +292,91 @@ std::optional<Neighbour> SegmentIndex::nearest_within(std::span<const float> val
     return search_within(values, query, radius, brute_force_, nullptr);
 }
 
+std::size_t SegmentIndex::count_candidates(const float* query, double radius) const {
+    std::vector<double> q(channels_);
+    const double q_abs = lower_bound_point(query, width_, channels_, q.data());
+    const double pad = kPadRelative * (1.0 + std::max(max_abs_, q_abs)) * std::sqrt(static_cast<double>(dim()));
+    const double search_sq = (radius + pad) * (radius + pad);
+    std::size_t seen = 0;
+    for (std::size_t id = 0; id < size_; ++id)
+        if (squared_gap(q.data(), points_->data() + id * channels_, channels_) < search_sq) ++seen;
+    return seen;
+}
+
+void SegmentIndex::learn(std::size_t queries, std::size_t candidates_per_query) {
+    stats_.queries += queries;
+    stats_.candidates += queries * candidates_per_query;
+    if (brute_force_) stats_.linear_queries += queries;
+    if (size_ == 0 || queries == 0) return;
+    const double fraction = static_cast<double>(candidates_per_query) / static_cast<double>(size_);
+    const double keep = std::pow(kFractionDecay, static_cast<double>(queries));
+    candidate_fraction_ = keep * candidate_fraction_ + (1.0 - keep) * fraction;
+    if (!brute_force_ && candidate_fraction_ > kBruteAbove) brute_force_ = true;
+    if (brute_force_ && candidate_fraction_ < kTreeBelow) brute_force_ = false;
+}
+
+void SegmentIndex::brute_batch(std::span<const float> values, const float* queries, std::size_t count,
+                               double radius, std::span<std::optional<Neighbour>> out) const {
+    const std::size_t n_dim = dim();
+    const double radius_sq = radius * radius;
+    double q_abs = 0.0;
+    for (std::size_t k = 0; k < count * n_dim; ++k) q_abs = std::max(q_abs, static_cast<double>(std::fabs(queries[k])));
+    const bool prefilter = std::max(max_abs_, q_abs) < kPrefilterMaxAbs && n_dim > kPrefilterValues;
+    std::vector<Best> best(count);
+
+    // blocks of segments small enough to stay in the first-level cache while
+    // every query passes over them; ids ascend within each query's scan
+    constexpr std::size_t kBlockBytes = 16 * 1024;
+    const std::size_t block = std::max<std::size_t>(1, kBlockBytes / (n_dim * sizeof(float)));
+    for (std::size_t j0 = 0; j0 < size_; j0 += block) {
+        const std::size_t j1 = std::min(size_, j0 + block);
+        for (std::size_t i = 0; i < count; ++i) {
+            const float* q = queries + i * n_dim;
+            Best& b = best[i];
+            for (std::size_t id = j0; id < j1; ++id) {
+                const double bound = b.found ? b.n.squared_distance : radius_sq;
+                const float* s = values.data() + id * n_dim;
+                if (prefilter && prefix_exceeds(prefix_gap(q, s), bound)) continue;
+                const double d2 = squared_distance_up_to(q, s, n_dim, bound);
+                if (d2 < radius_sq) b.offer(id, d2);
+            }
+        }
+    }
+    for (std::size_t i = 0; i < count; ++i) out[i] = best[i].found ? std::optional<Neighbour>(best[i].n) : std::nullopt;
+}
+
+void SegmentIndex::nearest_within_batch(std::span<const float> values, const float* queries, std::size_t count,
+                                        double radius, std::span<std::optional<Neighbour>> out) const {
+    STEPSTONE_ASSERT(out.size() >= count);
+    if (brute_force_) {
+        brute_batch(values, queries, count, radius, out);
+        return;
+    }
+    for (std::size_t i = 0; i < count; ++i) out[i] = search_within(values, queries + i * dim(), radius, false, nullptr);
+}
+
+void SegmentIndex::nearest_within_batch_adaptive(std::span<const float> values, const float* queries,
+                                                 std::size_t count, double radius,
+                                                 std::span<std::optional<Neighbour>> out) {
+    STEPSTONE_ASSERT(out.size() >= count);
+    if (count == 0) return;
+    if (!brute_force_) {
+        for (std::size_t i = 0; i < count; ++i) out[i] = nearest_within_adaptive(values, queries + i * dim(), radius);
+        return;
+    }
+    // the first query's lower bounds stand for the batch's pruning
+    const std::size_t seen = count_candidates(queries, radius);
+    brute_batch(values, queries, count, radius, out);
+    learn(count, seen);
+}
+
 std::optional<Neighbour> SegmentIndex::nearest_within_adaptive(std::span<const float> values,
                                                                const float* query, double radius) {
     std::size_t seen = 0;
     auto result = search_within(values, query, radius, brute_force_, &seen);
 
     // learn whether the lower bounds prune on this data
-    ++stats_.queries;
-    stats_.exact_checks += seen;
-    if (brute_force_) ++stats_.linear_queries;
-    if (size_ > 0) {
-        const double fraction = static_cast<double>(seen) / static_cast<double>(size_);
-        candidate_fraction_ = kFractionDecay * candidate_fraction_ + (1.0 - kFractionDecay) * fraction;
-        if (!brute_force_ && candidate_fraction_ > kBruteAbove) brute_force_ = true;
-        if (brute_force_ && candidate_fraction_ < kTreeBelow) brute_force_ = false;
-    }
+    learn(1, seen);
     return result;
 }
 

@@ -18,7 +18,9 @@ struct Neighbour {
 /// Counters of the work the index did, for benchmarks and tuning.
 struct IndexStats {
     std::uint64_t queries = 0;          ///< queries answered
-    std::uint64_t exact_checks = 0;     ///< full-dimension distances started
+    /// Segments whose lower bound fell within the radius (on the brute-force
+    /// path only every 16th query counts them; the others add the running mean).
+    std::uint64_t candidates = 0;
     std::uint64_t linear_queries = 0;   ///< queries answered by the brute-force path
     std::uint64_t rebuilds = 0;         ///< KD-trees built
     std::uint64_t rebuilt_points = 0;   ///< points put into those trees
@@ -87,6 +89,16 @@ public:
     /// if the index is empty.
     std::optional<Neighbour> nearest(std::span<const float> values, const float* query) const;
 
+    /// nearest_within() for `count` queries (query i at queries + i * dim())
+    /// against the current content, written to out[0, count). On the
+    /// brute-force path the scan is blocked so that each indexed segment is
+    /// read once per batch rather than once per query.
+    void nearest_within_batch(std::span<const float> values, const float* queries, std::size_t count,
+                              double radius, std::span<std::optional<Neighbour>> out) const;
+    /// As the const version, and lets the index learn whether pruning works.
+    void nearest_within_batch_adaptive(std::span<const float> values, const float* queries, std::size_t count,
+                                       double radius, std::span<std::optional<Neighbour>> out);
+
     /// True while queries use the brute-force path.
     bool brute_force() const { return brute_force_; }
     /// Work counters since construction (updated by non-const queries and
@@ -102,6 +114,10 @@ private:
     void add_point(const float* segment);
     void grow_levels();
     void rebuild_level_from(std::size_t first_level);
+    void brute_batch(std::span<const float> values, const float* queries, std::size_t count, double radius,
+                     std::span<std::optional<Neighbour>> out) const;
+    std::size_t count_candidates(const float* query, double radius) const;
+    void learn(std::size_t queries, std::size_t candidates_per_query);
     std::optional<Neighbour> search_within(std::span<const float> values, const float* query, double radius,
                                            bool brute, std::size_t* candidates) const;
 

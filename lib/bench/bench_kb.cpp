@@ -1,0 +1,514 @@
+// `kb` cases: the knowledge base's exact index (lib/kb) against brute force.
+// The baselines stay here, as the way the paper's workload would be done
+// without the index: batched distance matrices, and a plain loop.
+
+#include "bench/bench_kb.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <memory>
+#include <numbers>
+
+#if __has_include(<Eigen/Dense>)
+#include <Eigen/Dense>
+#define STEPSTONE_KB_BENCH_EIGEN 1
+#elif __has_include(<eigen3/Eigen/Dense>)
+#include <eigen3/Eigen/Dense>
+#define STEPSTONE_KB_BENCH_EIGEN 1
+#endif
+
+#include "core/rng.hpp"
+#include "kb/distance.hpp"
+#include "kb/knowledge_base.hpp"
+
+namespace stepstone::bench {
+
+namespace {
+
+// the paper's shapes (DESIGN.md section 4)
+constexpr std::size_t kChannels = 15;
+constexpr std::size_t kWidth = 20;
+constexpr std::size_t kDim = kChannels * kWidth;
+constexpr std::size_t kSteps = 4000;
+constexpr std::size_t kSegmentsPerPolicy = kSteps / kWidth;
+constexpr double kDelta = 1.83;
+constexpr std::size_t kPaperKbSize = 32580;
+constexpr std::size_t kPaperPopulation = 200;
+
+// driving style shared by a family of policies
+struct Style {
+    double left, right, wobble, period, phase, action;
+    double x, y, heading;
+};
+
+double clamp01(double v) { return v < 0 ? 0 : (v > 1 ? 1 : v); }
+
+// distance from (x, y) along `angle` to the walls of the 600 x 400 box
+double wall_distance(double x, double y, double angle) {
+    const double dx = std::cos(angle), dy = std::sin(angle);
+    double t = 1e9;
+    if (dx > 1e-12) t = std::min(t, (600 - x) / dx);
+    if (dx < -1e-12) t = std::min(t, -x / dx);
+    if (dy > 1e-12) t = std::min(t, (400 - y) / dy);
+    if (dy < -1e-12) t = std::min(t, -y / dy);
+    return t;
+}
+
+Style random_style(Rng& rng) {
+    Style s;
+    s.left = rng.uniform();
+    s.right = rng.uniform();
+    s.wobble = rng.uniform(0, 0.3);
+    s.period = rng.uniform(50, 400);
+    s.phase = rng.uniform(0, 2 * std::numbers::pi);
+    s.action = rng.bernoulli(0.5) ? 0.05 : 0.95;
+    s.x = rng.uniform(60, 540);
+    s.y = rng.uniform(60, 340);
+    s.heading = rng.uniform(-std::numbers::pi, std::numbers::pi);
+    return s;
+}
+
+// a family member: the parent's style, slightly mutated
+Style offspring(const Style& parent, Rng& rng) {
+    Style s = parent;
+    s.left = clamp01(s.left + rng.uniform(-0.03, 0.03));
+    s.right = clamp01(s.right + rng.uniform(-0.03, 0.03));
+    s.wobble = std::max(0.0, s.wobble + rng.uniform(-0.02, 0.02));
+    return s;
+}
+
+void drive(const Style& style, Rng& rng, std::size_t steps, float* out) {
+    double x = style.x, y = style.y, heading = style.heading;
+    double noise_l = 0, noise_r = 0;
+    double action = style.action;
+    bool lights[6] = {};
+    bool carrying = false;
+    for (std::size_t t = 0; t < steps; ++t) {
+        // smooth wheel commands: style + slow oscillation + correlated noise
+        noise_l = 0.95 * noise_l + rng.uniform(-0.02, 0.02);
+        noise_r = 0.95 * noise_r + rng.uniform(-0.02, 0.02);
+        const double wave = style.wobble * std::sin(2 * std::numbers::pi * static_cast<double>(t) / style.period + style.phase);
+        const double left = clamp01(style.left + wave + noise_l);
+        const double right = clamp01(style.right - wave + noise_r);
+        if (rng.bernoulli(0.002)) action = 1 - action;
+
+        // differential drive, 4 units per step per wheel, blocked by the walls
+        const double vl = 4 * (2 * left - 1), vr = 4 * (2 * right - 1);
+        heading += (vr - vl) / 40;
+        const double nx = x + 0.5 * (vl + vr) * std::cos(heading);
+        const double ny = y + 0.5 * (vl + vr) * std::sin(heading);
+        const bool blocked = nx < 20 || nx > 580 || ny < 20 || ny > 380;
+        if (!blocked) {
+            x = nx;
+            y = ny;
+        }
+        // light sensors: pairs at +-pi/4 seeing one of three objects (ball
+        // area, basket, switch) within a cone of +-pi/8 and 400 units
+        static constexpr double kObjects[3][2] = {{97.5, 50.6}, {550, 350}, {300, 20}};
+        for (int k = 0; k < 6; ++k) {
+            const double* o = kObjects[k / 2];
+            const double side = k % 2 == 0 ? std::numbers::pi / 4 : -std::numbers::pi / 4;
+            double off = std::atan2(o[1] - y, o[0] - x) - (heading + side);
+            off = std::remainder(off, 2 * std::numbers::pi);
+            lights[k] = std::fabs(off) < std::numbers::pi / 8 && std::hypot(o[0] - x, o[1] - y) < 400;
+        }
+        if (rng.bernoulli(0.001)) carrying = !carrying;
+
+        float* row = out + t * kChannels;
+        row[0] = static_cast<float>(std::min(1.0, wall_distance(x, y, heading + std::numbers::pi / 4) / 320));
+        row[1] = static_cast<float>(std::min(1.0, wall_distance(x, y, heading - std::numbers::pi / 4) / 320));
+        row[2] = static_cast<float>(std::min(1.0, wall_distance(x, y, heading) / 320));
+        for (int k = 0; k < 6; ++k) row[3 + k] = lights[k] ? 1.0f : 0.0f;
+        row[9] = blocked && vl > 0 ? 1.0f : 0.0f;
+        row[10] = blocked && vr > 0 ? 1.0f : 0.0f;
+        row[11] = carrying ? 1.0f : 0.0f;
+        row[12] = static_cast<float>(left);
+        row[13] = static_cast<float>(right);
+        row[14] = static_cast<float>(clamp01(action + rng.uniform(-0.02, 0.02)));
+    }
+}
+
+}  // namespace
+
+std::vector<float> synthetic_behaviours(std::uint64_t seed, std::size_t policies, std::size_t steps) {
+    Rng rng(seed);
+    const std::size_t families = std::max<std::size_t>(1, policies / 5);
+    std::vector<Style> parents;
+    for (std::size_t f = 0; f < families; ++f) parents.push_back(random_style(rng));
+    std::vector<float> out(policies * steps * kChannels);
+    for (std::size_t p = 0; p < policies; ++p) {
+        const Style s = offspring(parents[static_cast<std::size_t>(rng.below(families))], rng);
+        drive(s, rng, steps, out.data() + p * steps * kChannels);
+    }
+    return out;
+}
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point start) {
+    return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+kb::KbParams paper_params() {
+    kb::KbParams p;
+    p.segment_width = kWidth;
+    p.channels = kChannels;
+    p.delta = kDelta;
+    return p;
+}
+
+// brute-force knowledge base: the same observe rule, every distance computed
+struct BruteKb {
+    std::vector<float> values;
+    std::vector<float> norms;  // squared norms, for the batched form
+    std::vector<double> cum_reward;
+    std::vector<std::uint64_t> count;
+    std::size_t initial = 0;
+    std::vector<float> distances;
+
+    explicit BruteKb(const kb::KnowledgeBase& kb) : values(kb.values().begin(), kb.values().end()) {
+        for (const auto& r : kb.records()) {
+            cum_reward.push_back(r.cum_reward);
+            count.push_back(r.count);
+        }
+        initial = count.size();
+        for (std::size_t i = 0; i < initial; ++i) norms.push_back(squared_norm(values.data() + i * kDim));
+    }
+
+    static float squared_norm(const float* v) {
+        float s = 0;
+        for (std::size_t k = 0; k < kDim; ++k) s += v[k] * v[k];
+        return s;
+    }
+
+    void reset() {
+        values.resize(initial * kDim);
+        norms.resize(initial);
+        cum_reward.resize(initial);
+        count.resize(initial);
+    }
+
+    void credit_or_insert(const float* s, double reward, std::optional<std::size_t> best, double best_d2) {
+        if (best && best_d2 < kDelta * kDelta) {
+            cum_reward[*best] += reward;
+            count[*best] += 1;
+        } else {
+            values.insert(values.end(), s, s + kDim);
+            norms.push_back(squared_norm(s));
+            cum_reward.push_back(reward);
+            count.push_back(1);
+        }
+    }
+
+    // one policy: a distance matrix (||q||^2 + ||k||^2 - 2 q.k) against the
+    // KB as it was before the policy, then segments inserted by this policy
+    // checked one by one
+    void observe_batched(const float* segs, std::size_t n_segs, double reward) {
+        const std::size_t n = count.size();
+        distances.resize(n_segs * n);
+#if STEPSTONE_KB_BENCH_EIGEN
+        using Rows = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+        const Eigen::Map<const Rows> k(values.data(), static_cast<Eigen::Index>(n), kDim);
+        const Eigen::Map<const Rows> q(segs, static_cast<Eigen::Index>(n_segs), kDim);
+        Eigen::Map<Rows> d(distances.data(), static_cast<Eigen::Index>(n_segs), static_cast<Eigen::Index>(n));
+        d.noalias() = q * k.transpose();
+#else
+        // blocked dot products with 8 float lanes
+        for (std::size_t j0 = 0; j0 < n; j0 += 64) {
+            const std::size_t j1 = std::min(n, j0 + 64);
+            for (std::size_t i = 0; i < n_segs; ++i) {
+                const float* a = segs + i * kDim;
+                for (std::size_t j = j0; j < j1; ++j) {
+                    const float* b = values.data() + j * kDim;
+                    float lane[8] = {};
+                    for (std::size_t c = 0; c < kDim; c += 8)
+                        for (std::size_t l = 0; l < 8 && c + l < kDim; ++l) lane[l] += a[c + l] * b[c + l];
+                    distances[i * n + j] = ((lane[0] + lane[1]) + (lane[2] + lane[3])) + ((lane[4] + lane[5]) + (lane[6] + lane[7]));
+                }
+            }
+        }
+#endif
+        for (std::size_t i = 0; i < n_segs; ++i) {
+            const float* s = segs + i * kDim;
+            const float qn = squared_norm(s);
+            std::optional<std::size_t> best;
+            double best_d2 = 0;
+            const float* row = distances.data() + i * n;
+            for (std::size_t j = 0; j < n; ++j) {
+                const double d2 = static_cast<double>(qn + norms[j] - 2 * row[j]);
+                if (!best || d2 < best_d2) {
+                    best = j;
+                    best_d2 = d2;
+                }
+            }
+            for (std::size_t j = n; j < count.size(); ++j) {
+                const double d2 = kb::squared_distance(s, values.data() + j * kDim, kDim);
+                if (!best || d2 < best_d2) {
+                    best = j;
+                    best_d2 = d2;
+                }
+            }
+            credit_or_insert(s, reward, best, best_d2);
+        }
+    }
+
+    // one segment at a time, every full distance
+    void observe_loop(const float* segs, std::size_t n_segs, double reward) {
+        for (std::size_t i = 0; i < n_segs; ++i) {
+            const float* s = segs + i * kDim;
+            std::optional<std::size_t> best;
+            double best_d2 = 0;
+            for (std::size_t j = 0; j < count.size(); ++j) {
+                const double d2 = kb::squared_distance(s, values.data() + j * kDim, kDim);
+                if (!best || d2 < best_d2) {
+                    best = j;
+                    best_d2 = d2;
+                }
+            }
+            credit_or_insert(s, reward, best, best_d2);
+        }
+    }
+};
+
+// a KB grown from earlier synthetic generations, cut to `size` segments
+kb::KnowledgeBase realistic_kb(std::size_t size, std::uint64_t seed) {
+    kb::KnowledgeBase kb(paper_params());
+    const std::uint32_t src = kb.add_source("synthetic");
+    Rng rewards(seed, 0, 0, Purpose::test);
+    for (std::uint64_t g = 1; kb.size() < size; ++g) {
+        const std::vector<float> behaviours = synthetic_behaviours(seed + g, kPaperPopulation, kSteps);
+        for (std::size_t p = 0; p < kPaperPopulation && kb.size() < size; ++p) {
+            const std::span<const float> b(behaviours.data() + p * kSteps * kChannels, kSteps * kChannels);
+            kb.observe(kb::segment_behaviour(b, kChannels, kWidth), static_cast<double>(rewards.below(9)) / 24.0,
+                       kb::Origin{src, static_cast<std::int64_t>(g)});
+        }
+    }
+    std::vector<kb::Source> sources(kb.sources().begin(), kb.sources().end());
+    return kb::KnowledgeBase::from_segments(paper_params(), sources, kb.values().first(size * kDim),
+                                            kb.records().first(size));
+}
+
+kb::KnowledgeBase uniform_kb(std::size_t size, std::uint64_t seed) {
+    Rng rng(seed);
+    std::vector<float> values(size * kDim);
+    for (float& v : values) v = static_cast<float>(rng.uniform());
+    std::vector<kb::SegmentRecord> records(size, kb::SegmentRecord{0.5, 1, {0, 0}, {0, 0}});
+    return kb::KnowledgeBase::from_segments(paper_params(), {kb::Source{"uniform", 0, 0, 1}}, values, records);
+}
+
+// one generation to observe: policies x 200 segments and their rewards
+struct Generation {
+    std::vector<float> values;
+    std::vector<double> rewards;
+    std::size_t policies = 0;
+
+    const float* policy(std::size_t p) const { return values.data() + p * kSegmentsPerPolicy * kDim; }
+    std::size_t queries() const { return policies * kSegmentsPerPolicy; }
+};
+
+Generation realistic_generation(std::size_t policies, std::uint64_t seed) {
+    Generation g;
+    g.values = synthetic_behaviours(seed, policies, kSteps);
+    g.policies = policies;
+    Rng rng(seed, 0, 1, Purpose::test);
+    for (std::size_t p = 0; p < policies; ++p) g.rewards.push_back(static_cast<double>(rng.below(9)) / 24.0);
+    return g;
+}
+
+Generation uniform_generation(std::size_t policies, std::uint64_t seed) {
+    Generation g;
+    Rng rng(seed);
+    g.values.resize(policies * kSegmentsPerPolicy * kDim);
+    for (float& v : g.values) v = static_cast<float>(rng.uniform());
+    g.policies = policies;
+    g.rewards.assign(policies, 0.5);
+    return g;
+}
+
+// the candidate: a fresh copy of the KB observes the policies in order
+std::size_t observe_with_index(kb::KnowledgeBase& kb, const Generation& g, std::size_t policies) {
+    const std::uint32_t src = kb.add_source("generation");
+    std::size_t inserted = 0;
+    for (std::size_t p = 0; p < policies; ++p) {
+        inserted += kb.observe(kb::Segments{std::span<const float>(g.policy(p), kSegmentsPerPolicy * kDim), kDim},
+                               g.rewards[p], kb::Origin{src, 0})
+                        .inserted;
+    }
+    return inserted;
+}
+
+struct Sizes {
+    std::size_t kb_size, generation, batched_slice, loop_queries, uniform_kb, uniform_policies, load;
+};
+
+Sizes sizes_of(Size size) {
+    if (size == Size::full) return {kPaperKbSize, kPaperPopulation, 4, 100, kPaperKbSize, 2, 1000000};
+    return {4000, 20, 2, 50, 4000, 1, 50000};
+}
+
+struct KbState {
+    kb::KnowledgeBase kb;
+    Generation generation;
+    BruteKb brute;
+    std::size_t policies;
+};
+
+Workload make_observe_workload(Size size, bool loop) {
+    const Sizes s = sizes_of(size);
+    auto state = std::make_shared<KbState>(
+        KbState{realistic_kb(s.kb_size, 1000), realistic_generation(s.generation, 77), BruteKb(kb::KnowledgeBase(paper_params())), s.generation});
+    state->brute = BruteKb(state->kb);
+    Work baseline;
+    if (loop) {
+        baseline = [state, n = s.loop_queries] {
+            state->brute.reset();
+            state->brute.observe_loop(state->generation.policy(0), n, state->generation.rewards[0]);
+            return static_cast<std::uint64_t>(n);
+        };
+    } else {
+        baseline = [state, slice = s.batched_slice] {
+            state->brute.reset();
+            for (std::size_t p = 0; p < slice; ++p)
+                state->brute.observe_batched(state->generation.policy(p), kSegmentsPerPolicy, state->generation.rewards[p]);
+            return static_cast<std::uint64_t>(slice * kSegmentsPerPolicy);
+        };
+    }
+    Work candidate = [state] {
+        kb::KnowledgeBase kb = state->kb;
+        observe_with_index(kb, state->generation, state->policies);
+        return static_cast<std::uint64_t>(state->generation.queries());
+    };
+    return Workload{baseline, candidate};
+}
+
+Workload make_uniform_workload(Size size) {
+    const Sizes s = sizes_of(size);
+    auto state = std::make_shared<KbState>(
+        KbState{uniform_kb(s.uniform_kb, 5), uniform_generation(s.uniform_policies, 6), BruteKb(kb::KnowledgeBase(paper_params())), s.uniform_policies});
+    state->brute = BruteKb(state->kb);
+    Work baseline = [state] {
+        state->brute.reset();
+        for (std::size_t p = 0; p < state->policies; ++p)
+            state->brute.observe_batched(state->generation.policy(p), kSegmentsPerPolicy, state->generation.rewards[p]);
+        return static_cast<std::uint64_t>(state->generation.queries());
+    };
+    Work candidate = [state] {
+        kb::KnowledgeBase kb = state->kb;
+        observe_with_index(kb, state->generation, state->policies);
+        return static_cast<std::uint64_t>(state->generation.queries());
+    };
+    return Workload{baseline, candidate};
+}
+
+struct LoadState {
+    std::vector<float> values;
+    std::vector<kb::SegmentRecord> records;
+};
+
+std::shared_ptr<LoadState> load_state(std::size_t segments) {
+    auto state = std::make_shared<LoadState>();
+    const std::size_t policies = (segments + kSegmentsPerPolicy - 1) / kSegmentsPerPolicy;
+    state->values = synthetic_behaviours(31, policies, kSteps);
+    state->values.resize(segments * kDim);
+    state->records.assign(segments, kb::SegmentRecord{0.25, 2, {0, 1}, {0, 3}});
+    return state;
+}
+
+Workload make_load_workload(Size size) {
+    auto state = load_state(sizes_of(size).load);
+    Work baseline = [state] {
+        std::vector<float> values(state->values);
+        std::vector<kb::SegmentRecord> records(state->records);
+        return static_cast<std::uint64_t>(records.size() + (values.empty() ? 1 : 0));
+    };
+    Work candidate = [state] {
+        const kb::KnowledgeBase kb = kb::KnowledgeBase::from_segments(
+            paper_params(), {kb::Source{"load", 0, 3, 1}}, state->values, state->records);
+        return static_cast<std::uint64_t>(kb.size());
+    };
+    return Workload{baseline, candidate};
+}
+
+}  // namespace
+
+void add_kb_cases(Registry& registry) {
+    registry.add(Case{"kb", "segments",
+                      "one generation's observe step (200 x 200 segments of 300 values, KB of 32,580, with inserts): "
+                      "exact index vs batched brute force",
+                      50.0, [](Size size) { return make_observe_workload(size, false); }});
+    registry.add(Case{"kb-loop", "segments", "the same observe step: exact index vs a plain loop of full distances",
+                      500.0, [](Size size) { return make_observe_workload(size, true); }});
+    registry.add(Case{"kb-uniform", "segments",
+                      "observe on uniform random segments (nothing prunes): index with its brute-force fallback vs "
+                      "batched brute force",
+                      1.0, make_uniform_workload});
+    registry.add(Case{"kb-load", "segments",
+                      "a KB of 10^6 segments from arrays (checks, copy, index build) vs copying the arrays", 0.1,
+                      make_load_workload});
+}
+
+KbMeasurements measure_kb(Size size) {
+    const Sizes s = sizes_of(size);
+    KbMeasurements m;
+
+    // realistic data: one generation with the index, slices with brute force
+    {
+        const kb::KnowledgeBase base = realistic_kb(s.kb_size, 1000);
+        const Generation g = realistic_generation(s.generation, 77);
+        m.kb_size = base.size();
+        m.queries = g.queries();
+        m.bytes_per_segment = base.bytes_per_segment();
+        kb::KnowledgeBase kb = base;
+        const auto start = Clock::now();
+        m.inserted = observe_with_index(kb, g, g.policies);
+        m.observe_seconds = seconds_since(start);
+        m.index_queries_per_s = static_cast<double>(m.queries) / m.observe_seconds;
+        m.candidates_per_query =
+            static_cast<double>(kb.index().stats().candidates) / static_cast<double>(kb.index().stats().queries);
+
+        BruteKb brute(base);
+        auto t = Clock::now();
+        for (std::size_t p = 0; p < s.batched_slice; ++p) brute.observe_batched(g.policy(p), kSegmentsPerPolicy, g.rewards[p]);
+        m.batched_queries_per_s = static_cast<double>(s.batched_slice * kSegmentsPerPolicy) / seconds_since(t);
+        brute.reset();
+        t = Clock::now();
+        brute.observe_loop(g.policy(0), s.loop_queries, g.rewards[0]);
+        m.loop_queries_per_s = static_cast<double>(s.loop_queries) / seconds_since(t);
+    }
+
+    // uniform data
+    {
+        const kb::KnowledgeBase base = uniform_kb(s.uniform_kb, 5);
+        const Generation g = uniform_generation(s.uniform_policies, 6);
+        kb::KnowledgeBase kb = base;
+        auto t = Clock::now();
+        observe_with_index(kb, g, g.policies);
+        m.uniform_index_queries_per_s = static_cast<double>(g.queries()) / seconds_since(t);
+        BruteKb brute(base);
+        t = Clock::now();
+        for (std::size_t p = 0; p < g.policies; ++p) brute.observe_batched(g.policy(p), kSegmentsPerPolicy, g.rewards[p]);
+        m.uniform_batched_queries_per_s = static_cast<double>(g.queries()) / seconds_since(t);
+    }
+
+    // loading
+    {
+        const auto state = load_state(s.load);
+        m.load_segments = s.load;
+        auto t = Clock::now();
+        {
+            const std::vector<float> values(state->values);
+            const std::vector<kb::SegmentRecord> records(state->records);
+            m.copy_seconds = seconds_since(t);
+        }
+        t = Clock::now();
+        const kb::KnowledgeBase kb = kb::KnowledgeBase::from_segments(paper_params(), {kb::Source{"load", 0, 3, 1}},
+                                                                      state->values, state->records);
+        m.load_seconds = seconds_since(t);
+    }
+    return m;
+}
+
+}  // namespace stepstone::bench
