@@ -13,9 +13,8 @@ using namespace stepstone::sim;
 
 namespace {
 
-// per start: balls scored, whether the robot entered the left room (x < 201.7,
-// the divider's left face, only reachable through the door), and the smallest
-// distance to the target task's spawn point while carrying
+// per start: balls scored by its end, and whether the robot entered the left
+// room (x < 201.7, the divider's left face, only reachable through the door)
 struct StartLog {
     int balls_at_end = 0;
     bool entered_left_room = false;
