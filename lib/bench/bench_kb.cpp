@@ -39,7 +39,6 @@ constexpr std::size_t kPaperPopulation = 200;
 // driving style shared by a family of policies
 struct Style {
     double left, right, wobble, period, phase, action;
-    double x, y, heading;
 };
 
 double clamp01(double v) { return v < 0 ? 0 : (v > 1 ? 1 : v); }
@@ -63,35 +62,35 @@ Style random_style(Rng& rng) {
     s.period = rng.uniform(50, 400);
     s.phase = rng.uniform(0, 2 * std::numbers::pi);
     s.action = rng.bernoulli(0.5) ? 0.05 : 0.95;
-    s.x = rng.uniform(60, 540);
-    s.y = rng.uniform(60, 340);
-    s.heading = rng.uniform(-std::numbers::pi, std::numbers::pi);
     return s;
 }
 
-// a family member: the parent's style, slightly mutated
+// a lineage member: the ancestor's style, slightly mutated
 Style offspring(const Style& parent, Rng& rng) {
     Style s = parent;
-    s.left = clamp01(s.left + rng.uniform(-0.03, 0.03));
-    s.right = clamp01(s.right + rng.uniform(-0.03, 0.03));
-    s.wobble = std::max(0.0, s.wobble + rng.uniform(-0.02, 0.02));
+    s.left = clamp01(s.left + rng.uniform(-0.01, 0.01));
+    s.right = clamp01(s.right + rng.uniform(-0.01, 0.01));
     return s;
 }
 
-void drive(const Style& style, Rng& rng, std::size_t steps, float* out) {
-    double x = style.x, y = style.y, heading = style.heading;
+// one episode from the first start pose; `noise` stands for the controller's
+// reaction to its inputs, shared by a lineage (deterministic controllers
+// from one start repeat each other's behaviour until they diverge)
+void drive(const Style& style, Rng& noise, std::size_t steps, float* out) {
+    double x = 300, y = 200, heading = 0;
     double noise_l = 0, noise_r = 0;
     double action = style.action;
     bool lights[6] = {};
     bool carrying = false;
     for (std::size_t t = 0; t < steps; ++t) {
         // smooth wheel commands: style + slow oscillation + correlated noise
-        noise_l = 0.95 * noise_l + rng.uniform(-0.02, 0.02);
-        noise_r = 0.95 * noise_r + rng.uniform(-0.02, 0.02);
+        noise_l = 0.95 * noise_l + noise.uniform(-0.02, 0.02);
+        noise_r = 0.95 * noise_r + noise.uniform(-0.02, 0.02);
         const double wave = style.wobble * std::sin(2 * std::numbers::pi * static_cast<double>(t) / style.period + style.phase);
         const double left = clamp01(style.left + wave + noise_l);
         const double right = clamp01(style.right - wave + noise_r);
-        if (rng.bernoulli(0.002)) action = 1 - action;
+        if (noise.bernoulli(0.002)) action = 1 - action;
+        if (noise.bernoulli(0.001)) carrying = !carrying;
 
         // differential drive, 4 units per step per wheel, blocked by the walls
         const double vl = 4 * (2 * left - 1), vr = 4 * (2 * right - 1);
@@ -109,11 +108,9 @@ void drive(const Style& style, Rng& rng, std::size_t steps, float* out) {
         for (int k = 0; k < 6; ++k) {
             const double* o = kObjects[k / 2];
             const double side = k % 2 == 0 ? std::numbers::pi / 4 : -std::numbers::pi / 4;
-            double off = std::atan2(o[1] - y, o[0] - x) - (heading + side);
-            off = std::remainder(off, 2 * std::numbers::pi);
+            const double off = std::remainder(std::atan2(o[1] - y, o[0] - x) - (heading + side), 2 * std::numbers::pi);
             lights[k] = std::fabs(off) < std::numbers::pi / 8 && std::hypot(o[0] - x, o[1] - y) < 400;
         }
-        if (rng.bernoulli(0.001)) carrying = !carrying;
 
         float* row = out + t * kChannels;
         row[0] = static_cast<float>(std::min(1.0, wall_distance(x, y, heading + std::numbers::pi / 4) / 320));
@@ -125,21 +122,27 @@ void drive(const Style& style, Rng& rng, std::size_t steps, float* out) {
         row[11] = carrying ? 1.0f : 0.0f;
         row[12] = static_cast<float>(left);
         row[13] = static_cast<float>(right);
-        row[14] = static_cast<float>(clamp01(action + rng.uniform(-0.02, 0.02)));
+        row[14] = static_cast<float>(action);
     }
 }
+
+// ancestors shared by every synthetic generation, as one run's lineages
+constexpr std::size_t kLineages = 40;
+constexpr std::uint64_t kLineageSeed = 0x5eed;
 
 }  // namespace
 
 std::vector<float> synthetic_behaviours(std::uint64_t seed, std::size_t policies, std::size_t steps) {
+    Rng ancestors(kLineageSeed);
+    std::vector<Style> lineages;
+    for (std::size_t f = 0; f < kLineages; ++f) lineages.push_back(random_style(ancestors));
     Rng rng(seed);
-    const std::size_t families = std::max<std::size_t>(1, policies / 5);
-    std::vector<Style> parents;
-    for (std::size_t f = 0; f < families; ++f) parents.push_back(random_style(rng));
     std::vector<float> out(policies * steps * kChannels);
     for (std::size_t p = 0; p < policies; ++p) {
-        const Style s = offspring(parents[static_cast<std::size_t>(rng.below(families))], rng);
-        drive(s, rng, steps, out.data() + p * steps * kChannels);
+        const std::size_t lineage = static_cast<std::size_t>(rng.below(kLineages));
+        const Style s = offspring(lineages[lineage], rng);
+        Rng noise(kLineageSeed, 0, lineage, Purpose::controller);
+        drive(s, noise, steps, out.data() + p * steps * kChannels);
     }
     return out;
 }

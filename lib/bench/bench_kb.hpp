@@ -21,8 +21,9 @@ void add_kb_cases(Registry& registry);
 /// in [0, 1]): 3 lasers from a robot driving in a 600 x 400 box (smooth), 6
 /// light sensors (on while an object lies in their cone, so they switch rarely), 2 bumpers (on while pushing a wall), a
 /// carrying flag switching rarely, and 3 smooth effectors (wheels, action).
-/// Policies come in families sharing a driving style, as offspring of a few
-/// parents do. Deterministic in `seed`.
+/// Every policy starts from the same pose and descends from one of 40 fixed
+/// lineages (a driving style and a controller reaction shared by every seed),
+/// slightly mutated, as the policies of one run are. Deterministic in `seed`.
 std::vector<float> synthetic_behaviours(std::uint64_t seed, std::size_t policies, std::size_t steps);
 
 /// Numbers reported in docs/knowledge_base.md, measured once each.

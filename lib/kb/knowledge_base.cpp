@@ -159,6 +159,7 @@ ObserveResult KnowledgeBase::observe(Segments segments, double reward, Origin or
     ObserveResult result;
     const std::size_t dim = params_.dim();
     const std::size_t before = size();
+    if (segments.size() > 0) index_.probe(segments.values.data(), params_.delta);
     const bool batched = index_.brute_force() && segments.size() > 1;
     std::vector<std::optional<Neighbour>> snapshot;
     if (batched) {

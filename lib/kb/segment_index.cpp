@@ -303,6 +303,12 @@ std::size_t SegmentIndex::count_candidates(const float* query, double radius) co
     return seen;
 }
 
+void SegmentIndex::probe(const float* query, double radius) {
+    if (stats_.queries > 0 || size_ == 0) return;
+    candidate_fraction_ = static_cast<double>(count_candidates(query, radius)) / static_cast<double>(size_);
+    brute_force_ = candidate_fraction_ > kBruteAbove;
+}
+
 void SegmentIndex::learn(std::size_t queries, std::size_t candidates_per_query) {
     stats_.queries += queries;
     stats_.candidates += queries * candidates_per_query;
@@ -326,7 +332,7 @@ void SegmentIndex::brute_batch(std::span<const float> values, const float* queri
 
     // blocks of segments small enough to stay in the first-level cache while
     // every query passes over them; ids ascend within each query's scan
-    constexpr std::size_t kBlockBytes = 16 * 1024;
+    constexpr std::size_t kBlockBytes = 64 * 1024;
     const std::size_t block = std::max<std::size_t>(1, kBlockBytes / (n_dim * sizeof(float)));
     for (std::size_t j0 = 0; j0 < size_; j0 += block) {
         const std::size_t j1 = std::min(size_, j0 + block);

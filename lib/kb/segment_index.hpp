@@ -99,6 +99,11 @@ public:
     void nearest_within_batch_adaptive(std::span<const float> values, const float* queries, std::size_t count,
                                        double radius, std::span<std::optional<Neighbour>> out);
 
+    /// Before the first adaptive query, sets the path from the fraction of
+    /// segments whose lower bound lies within `radius` of `query` (so a
+    /// freshly loaded index does not start on the wrong one); later a no-op.
+    void probe(const float* query, double radius);
+
     /// True while queries use the brute-force path.
     bool brute_force() const { return brute_force_; }
     /// Work counters since construction (updated by non-const queries and
