@@ -2,6 +2,8 @@
 
 #include <cstdlib>
 #include <numbers>
+#include <stdexcept>
+#include <string>
 
 namespace stepstone::bench {
 
@@ -312,6 +314,23 @@ void BitmapCollectBall::begin_start(int index) {
     carrying_ = false;
     robot_.reinit();
     reinit_objects();
+}
+
+void BitmapCollectBall::place(BitmapPose pose) {
+    robot_.set_pose(pose);
+    robot_.move(0, 0, *map_, lights_);
+}
+
+void check_recording(const BitmapRecording& recording) {
+    constexpr auto kRows = static_cast<std::size_t>(BitmapCollectBall::kStepsPerStart);
+    if (!recording.behaviour.empty() && recording.behaviour.size() != kRows * BitmapCollectBall::kChannels) {
+        throw std::invalid_argument("bitmap episode: behaviour buffer holds " +
+                                    std::to_string(recording.behaviour.size()) + " floats, expected 60000");
+    }
+    if (!recording.cells.empty() && recording.cells.size() != 2 * BitmapCollectBall::kCells) {
+        throw std::invalid_argument("bitmap episode: cell buffer holds " + std::to_string(recording.cells.size()) +
+                                    " integers, expected 160");
+    }
 }
 
 void BitmapCollectBall::pre_step() {

@@ -207,6 +207,19 @@ public:
     BitmapEpisodeResult finish(int steps, const BitmapRecording& recording) const;
 
     const BitmapRobot& robot() const { return robot_; }
+    /// Balls scored so far.
+    int collected() const { return collected_; }
+    /// Whether a ball is carried.
+    bool carrying() const { return carrying_; }
+    /// Whether the door-open map is loaded.
+    bool door_open() const { return map_ == &arena_->open; }
+    /// Lights in index order: balls, basket lights, then the switch.
+    std::span<const Light> lights() const { return lights_; }
+
+    /// Places the robot and senses there (test scenes).
+    void place(BitmapPose pose);
+    /// Sets the carried flag (test scenes).
+    void set_carrying(bool carrying) { carrying_ = carrying; }
 
 private:
     void reinit_objects();
@@ -223,11 +236,17 @@ private:
     int switch_timer_ = 0;
 };
 
+/// Throws std::invalid_argument if a non-empty buffer of `recording` is not
+/// 4000 x 15 floats (behaviour) or 80 x 2 integers (cells).
+void check_recording(const BitmapRecording& recording);
+
 /// One whole evaluation (3 starts x 4000 steps, stand-still rule) of
-/// `controller` (reset(), step(const float* in12, float* out3)).
+/// `controller` (reset(), step(const float* in12, float* out3)). Throws as
+/// check_recording.
 template <class Controller>
 BitmapEpisodeResult run_bitmap_episode(BitmapCollectBall& episode, Controller& controller,
                                        const BitmapRecording& recording = {}) {
+    check_recording(recording);
     episode.reset();
     float in[12];
     float out[3];

@@ -233,3 +233,99 @@ TEST_CASE("a controller that stands still ends the evaluation after 101 still st
     CHECK(behaviour[100 * 15 + 12] == 0.5f);
     CHECK(behaviour[101 * 15 + 12] == -1.0f);
 }
+
+TEST_CASE("a release scores only pressed against the bottom wall near the basket", "[bench][fastsim]") {
+    const BitmapArena arena;
+    BitmapCollectBall episode(arena, BitmapTask::source);
+    episode.reset();
+    episode.begin_start(0);
+    float in[12] = {};
+    const float drive_down[3] = {1.0f, 1.0f, 1.0f};
+    const float release[3] = {0.5f, 0.5f, 0.0f};
+
+    // (296.25, 372) is 33 from the basket centre (296.25, 405), within 33.75;
+    // its pixel row 184 is 11 px from the wall's row 195, one more 4-unit step
+    // down reaches row 185, within rp = 10: a collision
+    episode.place({296.25f, 372, kPi / 2});
+    episode.set_carrying(true);
+    // a release before any collision loses the ball
+    REQUIRE(episode.apply(1, in, release, {}));
+    CHECK_FALSE(episode.carrying());
+    CHECK(episode.collected() == 0);
+
+    episode.set_carrying(true);
+    REQUIRE(episode.apply(2, in, drive_down, {}));
+    CHECK(episode.robot().collision());
+    CHECK(episode.robot().pose().y == 372.0f);
+    REQUIRE(episode.apply(3, in, release, {}));
+    CHECK(episode.collected() == 1);
+    CHECK(episode.finish(4, {}).reward == Approx(1.0 / 24));
+
+    // with the sticky flag still set, a release far from the basket loses the ball
+    episode.place({300, 300, 0});
+    episode.set_carrying(true);
+    REQUIRE(episode.apply(4, in, release, {}));
+    CHECK(episode.collected() == 1);
+}
+
+TEST_CASE("grabbing picks a lit ball within 20 and the switch opens the door", "[bench][fastsim]") {
+    const BitmapArena arena;
+    BitmapCollectBall episode(arena, BitmapTask::source);
+    episode.reset();
+    episode.begin_start(0);
+    float in[12] = {};
+    const float grab[3] = {0.5f, 0.5f, 1.0f};
+
+    // ball 0 at (296.25, 50.625): 19 away picks it, its light goes off
+    episode.place({296.25f + 19, 50.625f, 0});
+    REQUIRE(episode.apply(1, in, grab, {}));
+    CHECK(episode.carrying());
+    CHECK_FALSE(episode.lights()[0].on);
+    episode.inputs(in);
+    CHECK(in[11] == 1.0f);
+
+    // the switch at (532.5, 40.5), 14.5 away: a carrying robot cannot press it
+    episode.place({532.5f, 55, 0});
+    REQUIRE(episode.apply(2, in, grab, {}));
+    CHECK_FALSE(episode.door_open());
+    episode.set_carrying(false);
+    REQUIRE(episode.apply(3, in, grab, {}));
+    CHECK(episode.door_open());
+    CHECK_FALSE(episode.lights().back().on);
+
+    // the next start closes the door and lights everything again
+    episode.begin_start(1);
+    CHECK_FALSE(episode.door_open());
+    CHECK(episode.lights()[0].on);
+    CHECK(episode.lights().back().on);
+}
+
+TEST_CASE("the target task's switch lights the ball and re-arms after 100 steps", "[bench][fastsim]") {
+    const BitmapArena arena;
+    BitmapCollectBall episode(arena, BitmapTask::target);
+    episode.reset();
+    episode.begin_start(0);
+    // door open for the whole evaluation, the only ball (97.5, 50.625) off
+    CHECK(episode.door_open());
+    CHECK_FALSE(episode.lights()[0].on);
+    float in[12] = {};
+    const float grab[3] = {0.5f, 0.5f, 1.0f};
+    episode.place({532.5f, 55, 0});
+    episode.pre_step();
+    REQUIRE(episode.apply(0, in, grab, {}));
+    CHECK(episode.lights()[0].on);
+    CHECK_FALSE(episode.lights().back().on);
+    // the timer counts 100 steps down, then the switch is lit again
+    for (int k = 0; k < 100; ++k) episode.pre_step();
+    CHECK_FALSE(episode.lights().back().on);
+    episode.pre_step();
+    CHECK(episode.lights().back().on);
+}
+
+TEST_CASE("mis-sized recording buffers are refused", "[bench][fastsim]") {
+    const BitmapArena arena;
+    BitmapCollectBall episode(arena, BitmapTask::source);
+    StillController controller;
+    std::vector<float> behaviour(100);
+    CHECK_THROWS_AS(run_bitmap_episode(episode, controller, {behaviour, {}}), std::invalid_argument);
+}
