@@ -83,13 +83,10 @@ Workload make_sim_workload(Size) {
     candidate->state.door_open = false;
     candidate->state.lit = candidate->task->initial_lit();
 
+    // the baseline's own definition of the same scene
     auto baseline = std::make_shared<BaselineRobot>();
-    for (const auto& light : candidate->task->lights()) {
-        const LightColor color = light.kind == sim::LightKind::ball     ? LightColor::ball
-                                 : light.kind == sim::LightKind::basket ? LightColor::basket
-                                                                        : LightColor::button;
-        baseline->lights.push_back({static_cast<float>(light.x), static_cast<float>(light.y), color, true});
-    }
+    const BitmapCollectBall source(*baseline->arena, BitmapTask::source);
+    baseline->lights.assign(source.lights().begin(), source.lights().end());
 
     return Workload{[baseline, plan] { return baseline->run(*plan); },
                     [candidate, plan] { return candidate->run(*plan); }};
