@@ -19,7 +19,8 @@ namespace {
 constexpr int kSteps = 4000;
 
 // the candidate's step as sim::Episode composes it: odometry, contact at the
-// attempted pose, sensing at the final pose, the 12 inputs
+// attempted pose, sensing at the final pose (with the task's precomputed
+// sight lines), the 12 inputs
 struct CandidateRobot {
     std::shared_ptr<const sim::Task> task;
     sim::WorldState state;
@@ -42,7 +43,7 @@ struct CandidateRobot {
             } else {
                 pose = next;
             }
-            sim::sense(task->arena(), task->lights(), pose, state, readings);
+            sim::sense(task->arena(), task->sight(), pose, state, readings);
             sim::fill_inputs(readings, contact.left, contact.right, false, inputs);
             checksum += inputs[2];
         }
