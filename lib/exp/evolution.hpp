@@ -20,7 +20,7 @@ namespace stepstone::exp {
 struct Member {
     std::int64_t id = 0;
     std::optional<std::int64_t> parent_id;
-    nn::Genome genome{0, 0};
+    nn::Genome genome{1, 1};  // replaced before use
     double reward = 0;
     int balls = 0;
     long steps = 0;
