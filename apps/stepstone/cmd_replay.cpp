@@ -6,8 +6,10 @@
 
 #include "commands.hpp"
 #include "core/error.hpp"
+#include "core/output_file.hpp"
 #include "core/text.hpp"
 #include "exp/replay.hpp"
+#include "sim/step_csv.hpp"
 
 namespace stepstone::app {
 
@@ -16,10 +18,20 @@ namespace {
 struct ReplayFlags {
     std::string db;
     std::string individual = "best";
+    std::string csv;
+    bool force = false;
 };
 
 void run_replay(const ReplayFlags& flags) {
-    const auto replayed = exp::replay(flags.db, flags.individual);
+    exp::Replay replayed;
+    if (flags.csv.empty()) {
+        replayed = exp::replay(flags.db, flags.individual);
+    } else {
+        // rows go to a temporary file, renamed once the replay is complete
+        OutputFile output(flags.csv, flags.force);
+        replayed = exp::replay(flags.db, flags.individual, sim::StepCsvWriter(output.stream()));
+        output.commit();
+    }
     std::cout << "individual " << replayed.individual_id << " (generation " << replayed.generation << ")\n"
               << "reward " << replayed.result.reward << "\n"
               << "balls " << replayed.result.balls << "\n"
@@ -36,7 +48,9 @@ void add_replay_command(CLI::App& app) {
     auto* cmd = app.add_subcommand("replay", "Re-simulate a stored genome and check its reward");
     cmd->add_option("db", flags->db, "Run database (opened read-only)")->required();
     cmd->add_option("--individual", flags->individual, "'best' (default) or an individual id");
-    cmd->footer(example({"stepstone replay run.db --individual best", "stepstone replay run.db --individual 412"}));
+    cmd->add_option("--csv", flags->csv, "Also write every step as CSV (columns as `stepstone simulate`)");
+    cmd->add_flag("--force", flags->force, "Overwrite an existing --csv file");
+    cmd->footer(example({"stepstone replay run.db --individual best", "stepstone replay run.db --individual 412 --csv best.csv"}));
     cmd->callback([flags] { run_replay(*flags); });
 }
 

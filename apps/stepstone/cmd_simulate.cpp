@@ -1,17 +1,16 @@
 // stepstone simulate: one evaluation of a built-in controller, one CSV row per step
 
-#include <cstdio>
-#include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <memory>
 #include <string>
 
 #include "commands.hpp"
 #include "core/error.hpp"
+#include "core/output_file.hpp"
 #include "core/text.hpp"
 #include "sim/controllers.hpp"
 #include "sim/episode.hpp"
+#include "sim/step_csv.hpp"
 #include "sim/task.hpp"
 
 namespace stepstone::app {
@@ -46,49 +45,13 @@ sim::TaskConfig task_config(const SimulateOptions& options) {
     return config;
 }
 
-// writes rows as the episode runs; doubles with 17 digits and floats with 9
-// so the text round-trips and identical runs give identical files
-class CsvRows {
-public:
-    explicit CsvRows(std::ostream& out) : out_(out) {
-        out_ << "start,step,x,y,heading";
-        for (const char* name : sim::channel_names()) out_ << ',' << name;
-        out_ << ",carrying_after,balls\n";
-    }
-    void operator()(const sim::StepView& view) {
-        char buffer[64];
-        out_ << view.start << ',' << view.step;
-        for (double v : {view.pose.x, view.pose.y, view.pose.heading}) {
-            std::snprintf(buffer, sizeof buffer, ",%.17g", v);
-            out_ << buffer;
-        }
-        for (int i = 0; i < sim::kInputs; ++i) write_float(view.inputs[i]);
-        for (int i = 0; i < sim::kOutputs; ++i) write_float(view.outputs[i]);
-        out_ << ',' << (view.carrying ? 1 : 0) << ',' << view.balls << '\n';
-    }
-
-private:
-    void write_float(float v) {
-        char buffer[32];
-        std::snprintf(buffer, sizeof buffer, ",%.9g", static_cast<double>(v));
-        out_ << buffer;
-    }
-    std::ostream& out_;
-};
-
 void run_simulate(const SimulateOptions& options) {
     const sim::TaskConfig config = task_config(options);
-    const std::filesystem::path target(options.csv);
-    if (std::filesystem::exists(target) && !options.force) {
-        throw ConfigError(concat(options.csv, ": file exists (use --force to overwrite)"));
-    }
     const auto task = sim::make_task(config);
 
-    // write under a temporary name; rename only once the run is complete
-    const std::filesystem::path temporary = target.string() + ".tmp";
-    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-    if (!out) throw Error(concat(temporary.string(), ": cannot create file"));
-    CsvRows rows(out);
+    // rows go to a temporary file, renamed only once the run is complete
+    OutputFile output(options.csv, options.force);
+    sim::StepCsvWriter rows(output.stream());
     sim::EpisodeResult result;
     if (options.controller == "scripted") {
         sim::ScriptedController controller(config.kind);
@@ -97,17 +60,7 @@ void run_simulate(const SimulateOptions& options) {
         sim::RandomController controller(options.seed);
         result = sim::run_episode(*task, controller, {}, rows);
     }
-    out.close();
-    if (!out) {
-        std::filesystem::remove(temporary);
-        throw Error(concat(temporary.string(), ": write failed"));
-    }
-    std::error_code error;
-    std::filesystem::rename(temporary, target, error);
-    if (error) {
-        std::filesystem::remove(temporary);
-        throw Error(concat(options.csv, ": cannot rename the finished file: ", error.message()));
-    }
+    output.commit();
 
     std::cout << "reward " << result.reward << " (" << result.balls << " balls, " << result.steps_run << " steps"
               << (result.stopped_early ? ", stopped early by the stand-still rule" : "") << ", "

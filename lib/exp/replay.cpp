@@ -45,8 +45,20 @@ ReplaySetup prepare_replay(const std::filesystem::path& db_path, const std::stri
     return setup;
 }
 
-sim::EpisodeResult ReplaySetup::run(const std::function<void(const sim::StepView&)>& observer) {
-    return sim::run_episode(*task, impl->network, sim::Recording{}, observer);
+sim::EpisodeResult ReplaySetup::run(const std::function<void(const sim::StepView&)>& observer,
+                                    std::span<float> behaviour) {
+    sim::Recording recording;
+    recording.behaviour = behaviour;
+    return sim::run_episode(*task, impl->network, recording, observer);
+}
+
+std::vector<float> replay_behaviour(const std::filesystem::path& db_path, const std::string& individual,
+                                    Replay* replay) {
+    ReplaySetup setup = prepare_replay(db_path, individual);
+    std::vector<float> behaviour(setup.task->behaviour_size());
+    setup.replay.result = setup.run(sim::IgnoreSteps{}, behaviour);
+    if (replay) *replay = setup.replay;
+    return behaviour;
 }
 
 }  // namespace stepstone::exp

@@ -4,7 +4,9 @@
 #include <filesystem>
 #include <functional>
 #include <memory>
+#include <span>
 #include <string>
+#include <vector>
 
 #include "sim/episode.hpp"
 
@@ -33,10 +35,18 @@ struct ReplaySetup {
     struct Impl;
     std::shared_ptr<Impl> impl;
     Replay replay;
-    /// Runs the episode with `observer` called after each step.
-    sim::EpisodeResult run(const std::function<void(const sim::StepView&)>& observer);
+    /// Runs the episode with `observer` called after each step; `behaviour`,
+    /// if not empty, receives the first start's behaviour matrix
+    /// (task->behaviour_size() floats).
+    sim::EpisodeResult run(const std::function<void(const sim::StepView&)>& observer,
+                           std::span<float> behaviour = {});
 };
 ReplaySetup prepare_replay(const std::filesystem::path& db_path, const std::string& individual);
+
+/// The first start's behaviour matrix of a stored genome (rows = time steps,
+/// sim::kChannels columns), with the replay facts in `replay` if not null.
+std::vector<float> replay_behaviour(const std::filesystem::path& db_path, const std::string& individual,
+                                    Replay* replay = nullptr);
 
 template <class Observer>
 Replay replay(const std::filesystem::path& db_path, const std::string& individual, Observer&& observer) {

@@ -4,6 +4,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <thread>
 
@@ -77,9 +78,20 @@ TEST_CASE("evolve killed with SIGKILL mid-run resumes to the digest of an uninte
     CHECK(digest_cli.exit_code == 0);
     CHECK(digest_cli.out == digest(killed) + "\n");
 
-    auto replay = test::run_cli({"replay", killed.string(), "--individual", "best"});
+    auto replay = test::run_cli({"replay", killed.string(), "--individual", "best", "--csv", (dir / "best.csv").string()});
     CHECK(replay.exit_code == 0);
     CHECK_THAT(replay.out, Contains("stored_reward"));
+    // one CSV row per step run, after the header
+    const std::string csv = test::read_file(dir / "best.csv");
+    const auto lines = std::count(csv.begin(), csv.end(), '\n');
+    const auto steps_at = replay.out.find("steps ");
+    REQUIRE(steps_at != std::string::npos);
+    CHECK(lines == 1 + std::stol(replay.out.substr(steps_at + 6)));
+    CHECK(csv.rfind("start,step,x,y,heading", 0) == 0);
+    // an existing CSV is refused without --force and left as it was
+    auto again = test::run_cli({"replay", killed.string(), "--csv", (dir / "best.csv").string()});
+    CHECK(again.exit_code == 2);
+    CHECK(test::read_file(dir / "best.csv") == csv);
 }
 
 TEST_CASE("evolve usage and config errors exit 2 with one line and no file", "[exp][cli][errors]") {
