@@ -1,0 +1,184 @@
+#include "db/kb_store.hpp"
+
+#include <cmath>
+#include <cstring>
+
+#include "core/error.hpp"
+#include "core/text.hpp"
+#include "db/database.hpp"
+
+namespace stepstone::db {
+
+namespace {
+
+std::span<const std::byte> as_bytes(std::span<const float> values) {
+    return {reinterpret_cast<const std::byte*>(values.data()), values.size() * sizeof(float)};
+}
+
+void write_sources(Connection& connection, std::int64_t kb_id, const kb::KnowledgeBase& kb) {
+    auto upsert = connection.prepare(sql("kb/upsert_source.sql"));
+    const auto sources = kb.sources();
+    for (std::size_t i = 0; i < sources.size(); ++i) {
+        upsert.reset();
+        upsert.bind(1, kb_id)
+            .bind(2, static_cast<std::int64_t>(i))
+            .bind(3, sources[i].run)
+            .bind(4, sources[i].first_generation)
+            .bind(5, sources[i].last_generation)
+            .bind(6, static_cast<std::int64_t>(sources[i].policies))
+            .run();
+    }
+}
+
+void write_segment(Statement& upsert, std::int64_t kb_id, const kb::KnowledgeBase& kb, std::size_t id) {
+    const auto& record = kb.record(id);
+    upsert.reset();
+    upsert.bind(1, kb_id)
+        .bind(2, static_cast<std::int64_t>(id))
+        .bind(3, record.cum_reward)
+        .bind(4, static_cast<std::int64_t>(record.count))
+        .bind(5, static_cast<std::int64_t>(record.first.source))
+        .bind(6, record.first.generation)
+        .bind(7, static_cast<std::int64_t>(record.last.source))
+        .bind(8, record.last.generation)
+        .bind_blob(9, as_bytes(kb.segment(id)))
+        .run();
+}
+
+}  // namespace
+
+const char* to_string(kb::Match match) { return match == kb::Match::nearest ? "nearest" : "within_delta"; }
+
+kb::Match parse_match(const std::string& text, const std::string& what) {
+    if (text == "within_delta") return kb::Match::within_delta;
+    if (text == "nearest") return kb::Match::nearest;
+    throw ConfigError(concat(what, " must be one of within_delta|nearest, got \"", text, '"'));
+}
+
+std::int64_t insert_kb(Connection& connection, const std::string& name, const kb::KnowledgeBase& kb,
+                       std::optional<std::uint64_t> randomized_seed) {
+    const auto& params = kb.params();
+    auto insert = connection.prepare(sql("kb/insert_kb.sql"));
+    insert.bind(1, name)
+        .bind(2, static_cast<std::int64_t>(params.segment_width))
+        .bind(3, static_cast<std::int64_t>(params.channels))
+        .bind(4, params.delta)
+        .bind(5, to_string(params.match));
+    if (randomized_seed) {
+        insert.bind(6, static_cast<std::int64_t>(*randomized_seed));
+    } else {
+        insert.bind_null(6);
+    }
+    insert.run();
+    const std::int64_t kb_id = connection.last_insert_rowid();
+    update_kb(connection, kb_id, kb, 0, 0);
+    return kb_id;
+}
+
+void update_kb(Connection& connection, std::int64_t kb_id, const kb::KnowledgeBase& kb, std::size_t previous_size,
+               std::int64_t generation) {
+    write_sources(connection, kb_id, kb);
+    auto upsert = connection.prepare(sql("kb/upsert_segment.sql"));
+    // older segments change only when credited, which sets their last generation
+    for (std::size_t id = 0; id < previous_size && id < kb.size(); ++id) {
+        if (kb.record(id).last.generation == generation) write_segment(upsert, kb_id, kb, id);
+    }
+    for (std::size_t id = previous_size; id < kb.size(); ++id) write_segment(upsert, kb_id, kb, id);
+}
+
+std::vector<KbSummary> list_kbs(Connection& connection) {
+    std::vector<KbSummary> list;
+    auto select = connection.prepare(sql("kb/select_kbs.sql"));
+    while (select.step()) {
+        KbSummary summary;
+        summary.id = select.column_int(0);
+        summary.name = select.column_text(1);
+        summary.params.segment_width = static_cast<std::size_t>(select.column_int(2));
+        summary.params.channels = static_cast<std::size_t>(select.column_int(3));
+        summary.params.delta = select.column_double(4);
+        summary.params.match = parse_match(select.column_text(5), connection.name() + ": kb.match");
+        if (!select.is_null(6)) summary.randomized_seed = static_cast<std::uint64_t>(select.column_int(6));
+        list.push_back(summary);
+    }
+    for (auto& summary : list) {
+        summary.segments = connection.query_int(concat("SELECT count(*) FROM kb_segment WHERE kb_id = ", summary.id))
+                               .value_or(0);
+    }
+    return list;
+}
+
+StoredKb load_kb(Connection& connection, const std::string& name) {
+    const auto all = list_kbs(connection);
+    const KbSummary* chosen = nullptr;
+    if (name.empty()) {
+        if (all.empty()) throw DataError(concat(connection.name(), ": holds no knowledge base"));
+        if (all.size() > 1) {
+            throw DataError(concat(connection.name(), ": holds ", all.size(), " knowledge bases; name one"));
+        }
+        chosen = &all.front();
+    } else {
+        for (const auto& summary : all) {
+            if (summary.name == name) chosen = &summary;
+        }
+        if (!chosen) throw DataError(concat(connection.name(), ": no knowledge base named \"", name, '"'));
+    }
+    const kb::KbParams params = chosen->params;
+    const std::size_t dim = params.dim();
+
+    // sources
+    std::vector<kb::Source> sources;
+    auto select_sources = connection.prepare(sql("kb/select_sources.sql"));
+    select_sources.bind(1, chosen->id);
+    while (select_sources.step()) {
+        kb::Source source;
+        source.run = select_sources.column_text(1);
+        source.first_generation = select_sources.column_int(2);
+        source.last_generation = select_sources.column_int(3);
+        source.policies = static_cast<std::uint64_t>(select_sources.column_int(4));
+        sources.push_back(source);
+    }
+
+    // segments, checked before the KB sees them
+    std::vector<float> values;
+    std::vector<kb::SegmentRecord> records;
+    values.reserve(static_cast<std::size_t>(chosen->segments) * dim);
+    records.reserve(static_cast<std::size_t>(chosen->segments));
+    auto select = connection.prepare(sql("kb/select_segments.sql"));
+    select.bind(1, chosen->id);
+    while (select.step()) {
+        const auto id = select.column_int(0);
+        if (id != static_cast<std::int64_t>(records.size())) {
+            throw DatabaseError(concat(connection.name(), ": knowledge base \"", chosen->name, "\" misses segment ",
+                                       records.size()));
+        }
+        kb::SegmentRecord record;
+        record.cum_reward = select.column_double(1);
+        const auto count = select.column_int(2);
+        record.first = {static_cast<std::uint32_t>(select.column_int(3)), select.column_int(4)};
+        record.last = {static_cast<std::uint32_t>(select.column_int(5)), select.column_int(6)};
+        const auto blob = select.column_blob(7);
+        if (count < 1 || !std::isfinite(record.cum_reward) || blob.size() != dim * sizeof(float)) {
+            throw DatabaseError(concat(connection.name(), ": knowledge base \"", chosen->name, "\" segment ", id,
+                                       " is malformed (", blob.size(), " value bytes, expected ", dim * sizeof(float),
+                                       "; count ", count, ")"));
+        }
+        record.count = static_cast<std::uint64_t>(count);
+        const std::size_t offset = values.size();
+        values.resize(offset + dim);
+        std::memcpy(values.data() + offset, blob.data(), blob.size());
+        records.push_back(record);
+    }
+
+    StoredKb stored;
+    stored.id = chosen->id;
+    stored.name = chosen->name;
+    stored.randomized_seed = chosen->randomized_seed;
+    try {
+        stored.kb = kb::KnowledgeBase::from_segments(params, std::move(sources), values, records);
+    } catch (const Error& e) {
+        throw DatabaseError(concat(connection.name(), ": knowledge base \"", chosen->name, "\": ", e.what()));
+    }
+    return stored;
+}
+
+}  // namespace stepstone::db
