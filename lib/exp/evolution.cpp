@@ -9,8 +9,10 @@
 #include "core/rng.hpp"
 #include "core/text.hpp"
 #include "db/database.hpp"
+#include "db/kb_store.hpp"
 #include "evo/pareto.hpp"
 #include "evo/selection.hpp"
+#include "kb/segments.hpp"
 #include "nn/mutation.hpp"
 
 #ifndef STEPSTONE_VERSION
@@ -90,7 +92,7 @@ GenerationWrite Evolution::initialise() {
         genomes.push_back(nn::Genome::random_perceptron(config_.dnn, rng));
         genomes.back().simplify();
     }
-    const auto evaluations = evaluate_all(*task_, genomes, config_.dnn, threads_);
+    const auto evaluations = evaluate(genomes);
     for (std::size_t k = 0; k < count; ++k) {
         Member& m = mixed[k];
         m.id = next_id_++;
@@ -129,7 +131,7 @@ GenerationWrite Evolution::epoch() {
         child.simplify();
         genomes.push_back(std::move(child));
     }
-    const auto evaluations = evaluate_all(*task_, genomes, config_.dnn, threads_);
+    const auto evaluations = evaluate(genomes);
 
     std::vector<Member> mixed = population_;
     const std::size_t first_new = mixed.size();
@@ -146,6 +148,31 @@ GenerationWrite Evolution::epoch() {
         mixed.push_back(std::move(m));
     }
     return select(std::move(mixed), first_new, started);
+}
+
+void Evolution::attach_kb(kb::KnowledgeBase kb, std::int64_t kb_id, const std::string& source_name) {
+    kb_ = std::move(kb);
+    kb_id_ = kb_id;
+    kb_source_ = kb_->add_source(source_name);
+}
+
+std::vector<Evaluation> Evolution::evaluate(const std::vector<nn::Genome>& genomes) {
+    kb_previous_size_.reset();
+    const bool observe = kb_ && generation_ % config_.kb->period == 0;
+    if (!observe) return evaluate_all(*task_, genomes, config_.dnn, threads_);
+
+    // every policy of an observing generation, in index order, segment by segment
+    std::vector<float> behaviours;
+    auto evaluations = evaluate_all(*task_, genomes, config_.dnn, threads_, &behaviours);
+    const std::size_t width = task_->behaviour_size();
+    kb_previous_size_ = kb_->size();
+    for (std::size_t k = 0; k < genomes.size(); ++k) {
+        const std::span<const float> behaviour(behaviours.data() + k * width, width);
+        const auto segments = kb::segment_behaviour(behaviour, sim::kChannels,
+                                                    static_cast<std::size_t>(config_.kb->segment_width));
+        kb_->observe(segments, evaluations[k].reward, {kb_source_, generation_});
+    }
+    return evaluations;
 }
 
 GenerationWrite Evolution::select(std::vector<Member> mixed, std::size_t first_new, double started) {
@@ -224,6 +251,11 @@ GenerationWrite Evolution::select(std::vector<Member> mixed, std::size_t first_n
     stats.wall_time = now_seconds() - started;
     write.nan_outputs = nan_outputs_;
     nan_outputs_ = 0;
+    if (kb_previous_size_) {
+        write.kb = &*kb_;
+        write.kb_id = kb_id_;
+        write.kb_previous_size = *kb_previous_size_;
+    }
     write.checkpoint = checkpoint();
     return write;
 }
@@ -275,6 +307,16 @@ std::string first_difference(const nlohmann::json& a, const nlohmann::json& b, c
     return a == b ? "" : (path.empty() ? std::string("config") : path);
 }
 
+kb::KbParams kb_params(const KbConfig& config) {
+    kb::KbParams params;
+    params.segment_width = static_cast<std::size_t>(config.segment_width);
+    params.channels = static_cast<std::size_t>(sim::kChannels);
+    params.delta = config.delta;
+    params.match = db::parse_match(config.match, "kb.match");
+    params.validate();
+    return params;
+}
+
 void remove_database_files(const std::filesystem::path& path) {
     std::error_code ec;
     for (const char* suffix : {"", "-wal", "-shm", "-journal"}) {
@@ -306,6 +348,7 @@ EvolveSummary run_evolve(const EvolveOptions& options) {
             run.config = config.to_json();
             run.generations = config.ea.generations;
             insert_run(output.connection(), run, STEPSTONE_VERSION);
+            if (config.kb) db::insert_kb(output.connection(), "run", kb::KnowledgeBase(kb_params(*config.kb)));
             output.commit();
             if (options.force) remove_database_files(options.db_path);
             std::filesystem::rename(temp, options.db_path);
@@ -328,6 +371,11 @@ EvolveSummary run_evolve(const EvolveOptions& options) {
 
     Evolution evolution(config, seed, options.threads);
     if (auto state = load_checkpoint(connection, run.id)) evolution.restore(*state);
+    if (config.kb) {
+        // the KB was written in the same transactions as the checkpoint, so the two agree
+        auto stored = db::load_kb(connection, "run");
+        evolution.attach_kb(std::move(stored.kb), stored.id, concat("seed-", seed));
+    }
 
     EvolveSummary summary;
     summary.seed = seed;

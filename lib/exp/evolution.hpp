@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -12,6 +13,7 @@
 #include "exp/evaluation.hpp"
 #include "exp/evolve_config.hpp"
 #include "exp/run_store.hpp"
+#include "kb/knowledge_base.hpp"
 #include "nn/genome.hpp"
 
 namespace stepstone::exp {
@@ -52,11 +54,19 @@ public:
     /// Restores the state written by checkpoint(); throws DataError if it is malformed.
     void restore(const nlohmann::json& state);
 
+    /// Gives the run its knowledge base (config.kb set): `kb` as stored under
+    /// `kb_id`, observed from now on as source `source_name`.
+    void attach_kb(kb::KnowledgeBase kb, std::int64_t kb_id, const std::string& source_name);
+    /// The run's knowledge base, null without one.
+    const kb::KnowledgeBase* knowledge_base() const { return kb_ ? &*kb_ : nullptr; }
+
     int generation() const { return generation_; }
     const std::vector<Member>& population() const { return population_; }
 
 private:
     GenerationWrite select(std::vector<Member> mixed, std::size_t first_new, double started);
+    /// Evaluates `genomes`; observes them into the KB when this generation is an observing one.
+    std::vector<Evaluation> evaluate(const std::vector<nn::Genome>& genomes);
 
     EvolveConfig config_;
     std::uint64_t seed_;
@@ -67,6 +77,10 @@ private:
     int generation_ = -1;
     std::int64_t next_id_ = 0;
     std::int64_t nan_outputs_ = 0;  // NaN outputs of the generation in progress
+    std::optional<kb::KnowledgeBase> kb_;
+    std::int64_t kb_id_ = 0;
+    std::uint32_t kb_source_ = 0;
+    std::optional<std::size_t> kb_previous_size_;  // set when the generation in progress observed
 };
 
 /// Options of `stepstone evolve`.

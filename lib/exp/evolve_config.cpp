@@ -39,6 +39,17 @@ EaConfig read_ea(JsonReader reader) {
     return ea;
 }
 
+KbConfig read_kb(JsonReader reader) {
+    KbConfig kb;
+    reader.read("segment_width", kb.segment_width, 1, 1000000);
+    reader.read("delta", kb.delta, -1e300, 1e300);
+    if (kb.delta <= 0) throw ConfigError(concat(reader.path_of("delta"), " must be > 0, got ", kb.delta));
+    reader.read("period", kb.period, 1, 100000000);
+    reader.read_choice("match", kb.match, {"within_delta", "nearest"});
+    reader.finish();
+    return kb;
+}
+
 }  // namespace
 
 EvolveConfig EvolveConfig::from_json(const nlohmann::json& json, const std::string& source) {
@@ -57,6 +68,13 @@ EvolveConfig EvolveConfig::from_json(const nlohmann::json& json, const std::stri
             std::int64_t seed = 0;
             root.read("seed", seed, 0, kMaxSeed);
             config.seed = static_cast<std::uint64_t>(seed);
+        }
+        if (root.has("kb")) {
+            config.kb = read_kb(root.child("kb"));
+            if (config.kb->segment_width > config.task.steps_per_start) {
+                throw ConfigError(concat("kb.segment_width must be <= task.steps_per_start (",
+                                         config.task.steps_per_start, "), got ", config.kb->segment_width));
+            }
         }
         std::string retain = "front";
         root.read_choice("retain", retain, {"front", "all"});
@@ -96,6 +114,12 @@ nlohmann::json EvolveConfig::to_json() const {
                    {"delete_neuron_rate", dnn.delete_neuron_rate}};
     if (seed) json["seed"] = *seed;
     json["retain"] = retain == Retain::all ? "all" : "front";
+    if (kb) {
+        json["kb"] = {{"segment_width", kb->segment_width},
+                      {"delta", kb->delta},
+                      {"period", kb->period},
+                      {"match", kb->match}};
+    }
     return json;
 }
 

@@ -24,6 +24,15 @@ struct EaConfig {
     int initial_multiplier = 2;
 };
 
+/// The knowledge base a run builds from its own policies (the paper's
+/// section II.B). Defaults are the paper's.
+struct KbConfig {
+    int segment_width = 20;        ///< time steps per segment
+    double delta = 1.83;           ///< a segment closer than delta to a KB segment credits it
+    int period = 200;              ///< observe every `period` generations (1 = every generation)
+    std::string match = "within_delta";  ///< lookup rule: within_delta | nearest
+};
+
 /// Which genomes a run stores for replay.
 enum class Retain {
     front,  ///< the first front and the best of every generation
@@ -37,11 +46,13 @@ struct EvolveConfig {
     EaConfig ea;
     std::optional<std::uint64_t> seed;  ///< absent: drawn from the OS and stored
     Retain retain = Retain::front;
+    std::optional<KbConfig> kb;         ///< absent: the run builds no knowledge base
 
     /// Strict parse: unknown keys, wrong types and out-of-range values throw
     /// ConfigError naming `source` and the key path. Keys: task {kind,
     /// steps_per_start, starts, still_limit, grid_period}, ea {population_size,
-    /// generations, initial_multiplier}, dnn {see nn::DnnConfig}, seed, retain.
+    /// generations, initial_multiplier}, dnn {see nn::DnnConfig}, kb
+    /// {segment_width, delta, period, match}, seed, retain.
     static EvolveConfig from_json(const nlohmann::json& json, const std::string& source = "config");
     /// Reads and parses a config file.
     static EvolveConfig load(const std::filesystem::path& path);

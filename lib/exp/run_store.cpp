@@ -3,6 +3,7 @@
 #include "core/error.hpp"
 #include "core/text.hpp"
 #include "db/database.hpp"
+#include "db/kb_store.hpp"
 
 namespace stepstone::exp {
 
@@ -105,6 +106,9 @@ void write_generation(db::Connection& connection, RunRecord& run, const Generati
         genome.reset();
         genome.bind(1, run.id).bind(2, row.individual_id).bind(3, row.genome_json).run();
     }
+
+    // the knowledge base, when this generation observed into it
+    if (write.kb) db::update_kb(connection, write.kb_id, *write.kb, write.kb_previous_size, s.generation);
 
     // the state to resume from, then the counters
     auto checkpoint = connection.prepare(db::sql("run/upsert_checkpoint.sql"));

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "db/connection.hpp"
+#include "kb/knowledge_base.hpp"
 
 namespace stepstone::exp {
 
@@ -64,6 +65,11 @@ struct GenerationWrite {
     std::vector<GenomeRow> genomes;
     nlohmann::json checkpoint;  ///< the state to resume from
     std::int64_t nan_outputs = 0;  ///< NaN network outputs in this generation's evaluations
+    /// The run's knowledge base when this generation observed into it (else null):
+    /// its segments from kb_previous_size on and those credited now are written.
+    const kb::KnowledgeBase* kb = nullptr;
+    std::int64_t kb_id = 0;
+    std::size_t kb_previous_size = 0;
 };
 
 /// Inserts a new run row and returns its id.

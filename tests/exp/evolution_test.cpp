@@ -150,3 +150,65 @@ TEST_CASE("resuming with another config is refused and leaves the run unchanged"
     auto again = options_for(dir, "run.db", 1);
     CHECK_THROWS_WITH(exp::run_evolve(again), Contains("already exists (use --force to overwrite)"));
 }
+
+namespace {
+
+// the tiny run with a knowledge base observed every 2 generations
+const char* kTinyKbConfig = R"({
+  "task": {"kind": "source", "steps_per_start": 300, "starts": 1},
+  "ea": {"population_size": 8, "generations": 6},
+  "dnn": {"add_connection_rate": 0.5, "add_neuron_rate": 0.3},
+  "kb": {"segment_width": 20, "delta": 1.0, "period": 2},
+  "seed": 11
+})";
+
+}  // namespace
+
+TEST_CASE("the run's knowledge base counts every observed segment once", "[exp][kb]") {
+    test::TempDir dir;
+    write_config(dir, kTinyKbConfig);
+    exp::run_evolve(options_for(dir, "run.db", 2));
+    auto connection = db::open_database(dir / "run.db", db::OpenMode::read_only);
+    // observed generations 0, 2, 4, 6: 16 random policies then 8 children each time;
+    // 300 steps / width 20 = 15 segments a policy, and each segment either inserts
+    // (count 1) or credits one KB segment (count + 1)
+    const std::int64_t policies = 16 + 3 * 8;
+    CHECK(connection.query_int("SELECT sum(count) FROM kb_segment") == policies * 15);
+    CHECK(connection.query_int("SELECT policies FROM kb_source") == policies);
+    CHECK(connection.query_int("SELECT count(*) FROM kb_segment WHERE last_generation % 2 != 0") == 0);
+    // cumulated rewards add up to the observed policies' rewards, 15 segments each
+    auto sums = connection.prepare(
+        "SELECT (SELECT sum(cum_reward) FROM kb_segment), "
+        "(SELECT 15 * sum(reward) FROM individual WHERE generation % 2 = 0)");
+    REQUIRE(sums.step());
+    CHECK(sums.column_double(0) == Approx(sums.column_double(1)).margin(1e-9));
+    CHECK(connection.query_int("SELECT length(segment_values) FROM kb_segment LIMIT 1") == 20 * 15 * 4);
+}
+
+TEST_CASE("a run with a knowledge base is identical across threads and stop and resume", "[exp][kb][determinism]") {
+    test::TempDir dir;
+    write_config(dir, kTinyKbConfig);
+    exp::run_evolve(options_for(dir, "a.db", 1));
+    exp::run_evolve(options_for(dir, "b.db", 2));
+    auto first = options_for(dir, "c.db", 2);
+    first.generations = 3;
+    exp::run_evolve(first);
+    auto second = options_for(dir, "c.db", 1);
+    second.resume = true;
+    second.generations = 6;
+    exp::run_evolve(second);
+    const auto a = digest(dir / "a.db");
+    CHECK(digest(dir / "b.db") == a);
+    CHECK(digest(dir / "c.db") == a);
+}
+
+TEST_CASE("bad kb settings are refused with the key named", "[exp][kb][errors]") {
+    test::TempDir dir;
+    write_config(dir, R"({"kb": {"delta": -1}})");
+    CHECK_THROWS_WITH(exp::run_evolve(options_for(dir, "x.db", 1)), Contains("c.json: kb.delta must be > 0, got -1"));
+    write_config(dir, R"({"kb": {"period": 0}})");
+    CHECK_THROWS_WITH(exp::run_evolve(options_for(dir, "x.db", 1)), Contains("kb.period must be in [1, "));
+    write_config(dir, R"({"task": {"steps_per_start": 10}, "kb": {"segment_width": 20}})");
+    CHECK_THROWS_WITH(exp::run_evolve(options_for(dir, "x.db", 1)), Contains("kb.segment_width must be <= task.steps_per_start"));
+    CHECK(!std::filesystem::exists(dir / "x.db"));
+}
