@@ -8,6 +8,7 @@
 #include "core/error.hpp"
 #include "db/database.hpp"
 #include "db/digest.hpp"
+#include "db/kb_store.hpp"
 #include "exp/evolution.hpp"
 #include "exp/replay.hpp"
 
@@ -47,8 +48,17 @@ void run_demo(const DemoFlags& flags) {
               << replayed.result.reward << ", stored " << replayed.stored_reward
               << (replayed.result.reward == replayed.stored_reward ? " (identical)" : " (DIFFERENT)") << "\n";
 
-    // 3. the run's digest identifies its results
+    // 3. the knowledge base the run built from its policies
     auto connection = db::open_database(dir / "source.db", db::OpenMode::read_only);
+    for (const auto& kb : db::list_kbs(connection)) {
+        const auto policies = connection.query_int("SELECT sum(policies) FROM kb_source WHERE kb_id = " +
+                                                   std::to_string(kb.id));
+        std::cout << "== knowledge base \"" << kb.name << "\": " << kb.segments << " segments of "
+                  << kb.params.segment_width << " steps x " << kb.params.channels << " channels from "
+                  << policies.value_or(0) << " policies (delta " << kb.params.delta << ")\n";
+    }
+
+    // 4. the run's digest identifies its results
     std::cout << "== digest " << db::run_digest(connection) << "\n"
               << "   inspect it: stepstone db info " << (dir / "source.db").string() << std::endl;
 }

@@ -212,3 +212,25 @@ TEST_CASE("bad kb settings are refused with the key named", "[exp][kb][errors]")
     CHECK_THROWS_WITH(exp::run_evolve(options_for(dir, "x.db", 1)), Contains("kb.segment_width must be <= task.steps_per_start"));
     CHECK(!std::filesystem::exists(dir / "x.db"));
 }
+
+TEST_CASE("every example run config parses and the paper's carries the paper's values", "[exp][examples]") {
+    const std::filesystem::path examples = std::filesystem::path(STEPSTONE_SOURCE_DIR) / "examples";
+    int parsed = 0;
+    for (const auto& entry : std::filesystem::directory_iterator(examples)) {
+        const auto name = entry.path().filename().string();
+        if (name.rfind("source_", 0) != 0 || entry.path().extension() != ".json") continue;
+        INFO(name);
+        CHECK_NOTHROW(exp::EvolveConfig::load(entry.path()));
+        ++parsed;
+    }
+    CHECK(parsed >= 2);
+    // DESIGN.md section 4: population 200, generations 0..4000, 3 x 4000 steps, w = 20, delta = 1.83, period 200
+    const auto paper = exp::EvolveConfig::load(examples / "source_paper.json");
+    CHECK(paper.ea.population_size == 200);
+    CHECK(paper.ea.generations == 4000);
+    CHECK(paper.task.steps_per_start * paper.task.starts == 12000);
+    REQUIRE(paper.kb);
+    CHECK(paper.kb->segment_width == 20);
+    CHECK(paper.kb->delta == 1.83);
+    CHECK(paper.kb->period == 200);
+}
