@@ -28,7 +28,12 @@ CREATE TABLE generation (
     diversity_min REAL    NOT NULL,
     diversity_max REAL    NOT NULL,
     evaluations   INTEGER NOT NULL,  -- evaluations run in this generation
-    wall_time     REAL    NOT NULL,  -- seconds (not part of the run's digest)
+    wall_time     REAL    NOT NULL,  -- seconds, the whole generation (timings are not part of the digest)
+    time_simulation REAL  NOT NULL,  -- seconds evaluating (simulation and networks)
+    time_kb       REAL    NOT NULL,  -- seconds observing into the knowledge base
+    time_diversity REAL   NOT NULL,  -- seconds computing the diversity objective
+    time_selection REAL   NOT NULL,  -- seconds in sorting, crowding and selection
+    time_database REAL    NOT NULL,  -- seconds writing this generation (before the commit)
     PRIMARY KEY (run_id, generation)
 ) WITHOUT ROWID;
 

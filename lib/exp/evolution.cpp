@@ -158,12 +158,15 @@ void Evolution::attach_kb(kb::KnowledgeBase kb, std::int64_t kb_id, const std::s
 
 std::vector<Evaluation> Evolution::evaluate(const std::vector<nn::Genome>& genomes) {
     kb_previous_size_.reset();
+    time_kb_ = 0;
     const bool observe = kb_ && generation_ % config_.kb->period == 0;
-    if (!observe) return evaluate_all(*task_, genomes, config_.dnn, threads_);
+    const double started = now_seconds();
+    std::vector<float> behaviours;
+    auto evaluations = evaluate_all(*task_, genomes, config_.dnn, threads_, observe ? &behaviours : nullptr);
+    time_simulation_ = now_seconds() - started;
+    if (!observe) return evaluations;
 
     // every policy of an observing generation, in index order, segment by segment
-    std::vector<float> behaviours;
-    auto evaluations = evaluate_all(*task_, genomes, config_.dnn, threads_, &behaviours);
     const std::size_t width = task_->behaviour_size();
     kb_previous_size_ = kb_->size();
     for (std::size_t k = 0; k < genomes.size(); ++k) {
@@ -172,6 +175,7 @@ std::vector<Evaluation> Evolution::evaluate(const std::vector<nn::Genome>& genom
                                                     static_cast<std::size_t>(config_.kb->segment_width));
         kb_->observe(segments, evaluations[k].reward, {kb_source_, generation_});
     }
+    time_kb_ = now_seconds() - started - time_simulation_;
     return evaluations;
 }
 
@@ -184,13 +188,16 @@ GenerationWrite Evolution::select(std::vector<Member> mixed, std::size_t first_n
         ids.push_back(static_cast<std::uint64_t>(m.id));
         trajectories.push_back(m.cells);
     }
+    const double diversity_started = now_seconds();
     diversity_.update(ids, trajectories, threads_);
     const auto sums = diversity_.sums();
+    const double selection_started = now_seconds();
     evo::Objectives objectives;
     for (std::size_t k = 0; k < mixed.size(); ++k) objectives.push_back({mixed[k].reward, sums[k]});
 
     const auto ranking = evo::rank_and_crowd(objectives);
     const auto kept = evo::survivors(objectives, static_cast<std::size_t>(config_.ea.population_size));
+    const double selection_done = now_seconds();
 
     GenerationWrite write;
     auto& stats = write.stats;
@@ -249,6 +256,10 @@ GenerationWrite Evolution::select(std::vector<Member> mixed, std::size_t first_n
     stats.mean_reward = std::accumulate(rewards.begin(), rewards.end(), 0.0) / static_cast<double>(rewards.size());
     stats.median_reward = median(rewards);
     stats.wall_time = now_seconds() - started;
+    stats.time_simulation = time_simulation_;
+    stats.time_kb = time_kb_;
+    stats.time_diversity = selection_started - diversity_started;
+    stats.time_selection = selection_done - selection_started;
     write.nan_outputs = nan_outputs_;
     nan_outputs_ = 0;
     if (kb_previous_size_) {

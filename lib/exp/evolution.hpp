@@ -81,6 +81,8 @@ private:
     std::int64_t kb_id_ = 0;
     std::uint32_t kb_source_ = 0;
     std::optional<std::size_t> kb_previous_size_;  // set when the generation in progress observed
+    double time_simulation_ = 0;  // seconds of the generation in progress
+    double time_kb_ = 0;
 };
 
 /// Options of `stepstone evolve`.

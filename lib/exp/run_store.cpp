@@ -1,5 +1,7 @@
 #include "exp/run_store.hpp"
 
+#include <chrono>
+
 #include "core/error.hpp"
 #include "core/text.hpp"
 #include "db/database.hpp"
@@ -65,21 +67,8 @@ RunRecord load_run(db::Connection& connection) {
 void write_generation(db::Connection& connection, RunRecord& run, const GenerationWrite& write) {
     db::Transaction transaction(connection);
 
-    // statistics
-    auto generation = connection.prepare(db::sql("run/insert_generation.sql"));
+    const auto started = std::chrono::steady_clock::now();
     const auto& s = write.stats;
-    generation.bind(generation.parameter(":run_id"), run.id)
-        .bind(generation.parameter(":generation"), s.generation)
-        .bind(generation.parameter(":best_reward"), s.best_reward)
-        .bind(generation.parameter(":mean_reward"), s.mean_reward)
-        .bind(generation.parameter(":median_reward"), s.median_reward)
-        .bind(generation.parameter(":front_sizes"), nlohmann::json(s.front_sizes).dump())
-        .bind(generation.parameter(":diversity_min"), s.diversity_min)
-        .bind(generation.parameter(":diversity_max"), s.diversity_max)
-        .bind(generation.parameter(":evaluations"), s.evaluations)
-        .bind(generation.parameter(":wall_time"), s.wall_time)
-        .run();
-
     // every evaluated individual
     auto individual = connection.prepare(db::sql("run/insert_individual.sql"));
     const int p_run = individual.parameter(":run_id"), p_id = individual.parameter(":id"),
@@ -113,6 +102,26 @@ void write_generation(db::Connection& connection, RunRecord& run, const Generati
     // the state to resume from, then the counters
     auto checkpoint = connection.prepare(db::sql("run/upsert_checkpoint.sql"));
     checkpoint.bind(1, run.id).bind(2, s.generation).bind(3, write.checkpoint.dump()).run();
+
+    // statistics last, so they can hold the time the other writes took
+    const double time_database = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    auto generation = connection.prepare(db::sql("run/insert_generation.sql"));
+    generation.bind(generation.parameter(":run_id"), run.id)
+        .bind(generation.parameter(":generation"), s.generation)
+        .bind(generation.parameter(":best_reward"), s.best_reward)
+        .bind(generation.parameter(":mean_reward"), s.mean_reward)
+        .bind(generation.parameter(":median_reward"), s.median_reward)
+        .bind(generation.parameter(":front_sizes"), nlohmann::json(s.front_sizes).dump())
+        .bind(generation.parameter(":diversity_min"), s.diversity_min)
+        .bind(generation.parameter(":diversity_max"), s.diversity_max)
+        .bind(generation.parameter(":evaluations"), s.evaluations)
+        .bind(generation.parameter(":wall_time"), s.wall_time + time_database)
+        .bind(generation.parameter(":time_simulation"), s.time_simulation)
+        .bind(generation.parameter(":time_kb"), s.time_kb)
+        .bind(generation.parameter(":time_diversity"), s.time_diversity)
+        .bind(generation.parameter(":time_selection"), s.time_selection)
+        .bind(generation.parameter(":time_database"), time_database)
+        .run();
 
     RunRecord updated = run;
     updated.generations_done = s.generation;

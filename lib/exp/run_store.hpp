@@ -49,7 +49,12 @@ struct GenerationRow {
     double diversity_min = 0;
     double diversity_max = 0;
     std::int64_t evaluations = 0;
-    double wall_time = 0;
+    double wall_time = 0;        ///< seconds, the whole generation
+    double time_simulation = 0;  ///< seconds evaluating
+    double time_kb = 0;          ///< seconds observing into the knowledge base
+    double time_diversity = 0;   ///< seconds computing diversity
+    double time_selection = 0;   ///< seconds sorting, crowding, selecting
+    double time_database = 0;    ///< seconds writing the generation (set by write_generation)
 };
 
 /// A genome kept for replay.

@@ -15,7 +15,8 @@ std::string digest_of(const std::filesystem::path& path, bool reversed, double w
         "INSERT INTO run (id, task, seed, config, status, generations, program_version, created) "
         "VALUES (1, 'source', 7, '{}', 'finished', 1, 'x', 'now')");
     connection.exec("INSERT INTO generation VALUES (1, 0, 0.25, 0.1, 0.1, '[2]', 1.0, 2.0, 2, " +
-                    std::to_string(wall_time) + ")");
+                    std::to_string(wall_time) + ", 0.5, 0, 0.1, 0.01, " +
+                    std::to_string(wall_time / 10) + ")");
     const std::string a = "INSERT INTO individual VALUES (1, 1, 0, NULL, " + std::to_string(reward) +
                           ", 0.25, 3.5, NULL, 6, 12000)";
     const std::string b = "INSERT INTO individual VALUES (1, 2, 0, NULL, 0.0, 0.0, 3.5, NULL, 0, 101)";
