@@ -1,0 +1,248 @@
+// stepstone kb export | merge | randomize | calibrate | stats | annotate
+
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "commands.hpp"
+#include "core/error.hpp"
+#include "core/text.hpp"
+#include "db/kb_store.hpp"
+#include "exp/kb_tools.hpp"
+
+namespace stepstone::app {
+
+namespace {
+
+void print_written(const std::string& out, const exp::KbWritten& kb) {
+    std::cout << out << ": knowledge base \"" << kb.name << "\", " << kb.segments << " segments (segment_width "
+              << kb.params.segment_width << ", channels " << kb.params.channels << ", delta " << kb.params.delta
+              << ")";
+    if (kb.randomized_seed) std::cout << ", randomized with seed " << *kb.randomized_seed;
+    std::cout << '\n';
+}
+
+// ------------------------------------------------------------------- export
+
+struct ExportFlags {
+    std::string run;
+    std::string out;
+    std::string name = exp::kRunKbName;
+    bool force = false;
+};
+
+void add_export(CLI::App& kb_cmd) {
+    auto flags = std::make_shared<ExportFlags>();
+    auto* cmd = kb_cmd.add_subcommand("export", "Write a run's knowledge base as a standalone KB file");
+    cmd->add_option("run", flags->run, "Run database (opened read-only)")->required();
+    cmd->add_option("--out", flags->out, "New KB file (written atomically)")->required();
+    cmd->add_option("--name", flags->name, "Name of the KB in the run file (default: run)");
+    cmd->add_flag("--force", flags->force, "Overwrite an existing --out file");
+    cmd->footer(example({"stepstone kb export run.db --out kb.db"}));
+    cmd->callback([flags] { print_written(flags->out, exp::export_kb(flags->run, flags->name, flags->out, flags->force)); });
+}
+
+// -------------------------------------------------------------------- merge
+
+struct MergeFlags {
+    std::vector<std::string> inputs;
+    std::string out;
+    std::string name;
+    std::string input_name;
+    bool force = false;
+};
+
+void add_merge(CLI::App& kb_cmd) {
+    auto flags = std::make_shared<MergeFlags>();
+    auto* cmd = kb_cmd.add_subcommand(
+        "merge", "Merge KB files: the segments of each later KB are observed into the first under its delta");
+    cmd->add_option("kbs", flags->inputs, "Two or more KB or run files (opened read-only), merged in this order")
+        ->required();
+    cmd->add_option("--out", flags->out, "New KB file (written atomically)")->required();
+    cmd->add_option("--name", flags->name, "Name of the merged KB (default: the first KB's name)");
+    cmd->add_option("--kb-name", flags->input_name, "Which KB to read from each input (default: its only one)");
+    cmd->add_flag("--force", flags->force, "Overwrite an existing --out file");
+    cmd->footer(example({"stepstone kb merge a.db b.db c.db --out merged.db"}));
+    cmd->callback([flags] {
+        std::vector<std::filesystem::path> inputs(flags->inputs.begin(), flags->inputs.end());
+        print_written(flags->out, exp::merge_kb_files(inputs, flags->out, flags->name, flags->force, flags->input_name));
+    });
+}
+
+// ---------------------------------------------------------------- randomize
+
+struct RandomizeFlags {
+    std::string in;
+    std::string out;
+    std::uint64_t seed = 0;
+    std::string name;
+    std::string input_name;
+    bool force = false;
+};
+
+void add_randomize(CLI::App& kb_cmd) {
+    auto flags = std::make_shared<RandomizeFlags>();
+    auto* cmd = kb_cmd.add_subcommand(
+        "randomize", "The control KB: same segments, average rewards drawn from U[0, 1) with a seed");
+    cmd->add_option("kb", flags->in, "KB file (opened read-only)")->required();
+    cmd->add_option("--out", flags->out, "New KB file (written atomically)")->required();
+    cmd->add_option("--seed", flags->seed, "Seed of the draws (stored as randomized_seed)")->required();
+    cmd->add_option("--name", flags->name, "Name of the output KB (default: the input's name + \"-rand\")");
+    cmd->add_option("--kb-name", flags->input_name, "Which KB of the input (default: its only one)");
+    cmd->add_flag("--force", flags->force, "Overwrite an existing --out file");
+    cmd->footer(example({"stepstone kb randomize merged.db --out rand.db --seed 7"}));
+    cmd->callback([flags] {
+        print_written(flags->out,
+                      exp::randomize_kb_file(flags->in, flags->out, flags->seed, flags->name, flags->force,
+                                             flags->input_name));
+    });
+}
+
+// ---------------------------------------------------------------- calibrate
+
+struct CalibrateFlags {
+    std::string run;
+    std::string individual = "best";
+    std::string deltas = "0.5,1,1.5,1.83,2,2.5,3,4";
+    std::optional<std::size_t> segment_width;
+    std::size_t neighbours = 20;
+    bool json = false;
+};
+
+void run_calibrate(const CalibrateFlags& flags) {
+    exp::CalibrateOptions options;
+    options.individual = flags.individual;
+    options.segment_width = flags.segment_width;
+    options.deltas = exp::parse_deltas(flags.deltas);
+    options.neighbours = flags.neighbours;
+    if (options.neighbours == 0) throw ConfigError("--neighbours must be >= 1, got 0");
+    const auto result = exp::calibrate_run(flags.run, options);
+    const auto& c = result.calibration;
+    if (flags.json) {
+        nlohmann::json out;
+        out["individual_id"] = result.individual_id;
+        out["reward"] = result.reward;
+        out["segment_width"] = c.segment_width;
+        out["segment_width_from"] = result.width_from;
+        out["channels"] = c.channels;
+        out["neighbours"] = c.neighbours;
+        out["segments"] = c.segments;
+        out["delta"] = c.delta;
+        out["policies"] = c.policies;
+        out["sizes"] = nlohmann::json::array();
+        for (const auto& row : c.sizes) out["sizes"].push_back({{"delta", row.delta}, {"segments", row.size}});
+        std::cout << out.dump(2) << '\n';
+        return;
+    }
+    std::cout << "individual      " << result.individual_id << " (stored reward " << result.reward << ")\n"
+              << "segment_width   " << c.segment_width << " (" << result.width_from << ")\n"
+              << "segments        " << c.segments << " of " << c.channels << " channels\n"
+              << "delta           " << c.delta << "  (mean distance of each segment to its " << c.neighbours
+              << " nearest others, averaged)\n";
+    if (c.sizes.empty()) return;
+    std::cout << "\nKB size over the " << c.policies << " stored policies\n"
+              << "  delta       segments\n";
+    for (const auto& row : c.sizes) {
+        std::cout << "  " << std::left << std::setw(10) << row.delta << std::right << std::setw(10) << row.size
+                  << '\n';
+    }
+}
+
+void add_calibrate(CLI::App& kb_cmd) {
+    auto flags = std::make_shared<CalibrateFlags>();
+    auto* cmd = kb_cmd.add_subcommand(
+        "calibrate", "The paper's delta rule on a stored policy, and the KB size per delta over the run's policies");
+    cmd->add_option("run", flags->run, "Run database (opened read-only)")->required();
+    cmd->add_option("--individual", flags->individual, "The successful policy: 'best' (default) or an id");
+    cmd->add_option("--deltas", flags->deltas, "Comma-separated deltas for the size table (default: " + flags->deltas +
+                                                    ")");
+    cmd->add_option("--segment-width", flags->segment_width,
+                    "Steps per segment (default: the run's knowledge base's, else 20)");
+    cmd->add_option("--neighbours", flags->neighbours, "Nearest segments averaged by the rule (default: 20)");
+    cmd->add_flag("--json", flags->json, "Print JSON instead of text");
+    cmd->footer(example({"stepstone kb calibrate run.db --individual best",
+                         "stepstone kb calibrate run.db --deltas 0.5,1,1.83,2.5 --segment-width 20 --json"}));
+    cmd->callback([flags] { run_calibrate(*flags); });
+}
+
+// -------------------------------------------------------------------- stats
+
+struct StatsFlags {
+    std::string kb;
+    std::string name;
+    bool json = false;
+};
+
+void add_stats(CLI::App& kb_cmd) {
+    auto flags = std::make_shared<StatsFlags>();
+    auto* cmd = kb_cmd.add_subcommand(
+        "stats", "Size, parameters, average-reward histogram, counts and provenance of a knowledge base");
+    cmd->add_option("kb", flags->kb, "KB or run file (opened read-only)")->required();
+    cmd->add_option("--name", flags->name, "Which KB of the file (default: its only one)");
+    cmd->add_flag("--json", flags->json, "Print JSON instead of text");
+    cmd->footer(example({"stepstone kb stats kb.db", "stepstone kb stats run.db --name run --json"}));
+    cmd->callback([flags] {
+        const auto stats = exp::kb_file_stats(flags->kb, flags->name);
+        if (flags->json) {
+            std::cout << exp::to_json(stats).dump(2) << '\n';
+        } else {
+            exp::write_text(std::cout, stats);
+        }
+    });
+}
+
+// ----------------------------------------------------------------- annotate
+
+struct AnnotateFlags {
+    std::string run;
+    std::string kb;
+    std::string individuals = "best";
+    std::string kb_name;
+    std::string as_name;
+};
+
+void add_annotate(CLI::App& kb_cmd) {
+    auto flags = std::make_shared<AnnotateFlags>();
+    auto* cmd = kb_cmd.add_subcommand(
+        "annotate", "Replay stored policies and record each segment's KB match in the run file (policy_segment)");
+    cmd->add_option("run", flags->run, "Run database (updated in one transaction)")->required();
+    cmd->add_option("--kb", flags->kb, "KB file (opened read-only); copied into the run file")->required();
+    cmd->add_option("--individuals", flags->individuals,
+                    "best (default), front (the last population's first front) or all stored genomes");
+    cmd->add_option("--kb-name", flags->kb_name, "Which KB of the KB file (default: its only one)");
+    cmd->add_option("--as", flags->as_name, "Name of the KB's copy in the run file (default: its own name)");
+    cmd->footer(example({"stepstone kb annotate run.db --kb kb.db --individuals front",
+                         "sqlite3 run.db < queries/policy_saliency.sql"}));
+    cmd->callback([flags] {
+        const auto which = exp::parse_policy_set(flags->individuals);
+        const auto done = exp::annotate_run(flags->run, flags->kb, which, flags->kb_name, flags->as_name);
+        std::cout << flags->run << ": " << done.individuals.size() << " policies, " << done.rows
+                  << " policy_segment rows, kb_id " << done.kb_id << " (\"" << done.kb_name << "\", "
+                  << (done.copied ? "copied into the run file" : "already in the run file") << ")\n";
+    });
+}
+
+void add_kb_command(CLI::App& app) {
+    auto* kb_cmd = app.add_subcommand("kb", "Export, merge, randomize, calibrate, inspect and apply knowledge bases");
+    kb_cmd->require_subcommand(1);
+    kb_cmd->footer(example({"stepstone kb export run.db --out kb.db", "stepstone kb merge a.db b.db --out merged.db",
+                            "stepstone kb stats merged.db"}));
+    add_export(*kb_cmd);
+    add_merge(*kb_cmd);
+    add_randomize(*kb_cmd);
+    add_calibrate(*kb_cmd);
+    add_stats(*kb_cmd);
+    add_annotate(*kb_cmd);
+}
+
+const CommandRegistrar registrar(40, add_kb_command);
+
+}  // namespace
+
+}  // namespace stepstone::app
