@@ -22,6 +22,9 @@ void add_builtin_cases([[maybe_unused]] Registry& registry) {
 #if STEPSTONE_HAVE_KB_CASES
     add_kb_cases(registry);
 #endif
+#if STEPSTONE_HAVE_EXP
+    add_evolve_cases(registry);
+#endif
 }
 
 }  // namespace stepstone::bench

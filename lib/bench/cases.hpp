@@ -31,4 +31,9 @@ void add_nn_cases(Registry& registry);
 void add_diversity_cases(Registry& registry);
 #endif
 
+#if STEPSTONE_HAVE_EXP
+/// `evolve`: whole generations of the source task, 2 threads vs 1.
+void add_evolve_cases(Registry& registry);
+#endif
+
 }  // namespace stepstone::bench
