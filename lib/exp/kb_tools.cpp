@@ -86,7 +86,8 @@ std::vector<std::int64_t> front_individuals(db::Connection& connection, std::int
     }
     const auto stored = stored_individuals(connection, run_id);
     std::vector<std::int64_t> front;
-    for (std::size_t k : evo::non_dominated_fronts(objectives).front()) {
+    const auto fronts = evo::non_dominated_fronts(objectives);
+    for (std::size_t k : fronts.front()) {
         if (std::binary_search(stored.begin(), stored.end(), ids[k])) front.push_back(ids[k]);
     }
     std::sort(front.begin(), front.end());
@@ -285,21 +286,17 @@ KbStats compute_kb_stats(const kb::KnowledgeBase& kb, std::size_t bins) {
     stats.sources.assign(kb.sources().begin(), kb.sources().end());
     stats.bytes_per_segment = kb.bytes_per_segment();
 
-    // histogram of the averages over [0, max]
-    const double top = stats.max_average;
+    // histogram of the averages over [0, max] ([0, 1] when every average is 0)
+    const double top = stats.max_average > 0 ? stats.max_average : 1.0;
     for (std::size_t b = 0; b < bins; ++b) {
-        const double low = top > 0 ? top * static_cast<double>(b) / static_cast<double>(bins) : 0.0;
-        const double high = top > 0 ? top * static_cast<double>(b + 1) / static_cast<double>(bins) : 0.0;
-        stats.histogram.push_back({low, high, 0});
+        stats.histogram.push_back({top * static_cast<double>(b) / static_cast<double>(bins),
+                                   top * static_cast<double>(b + 1) / static_cast<double>(bins), 0});
     }
     std::vector<std::uint64_t> counts;
     counts.reserve(kb.size());
     for (const auto& record : kb.records()) {
-        std::size_t bin = 0;
-        if (top > 0) {
-            const double scaled = std::floor(record.average() / top * static_cast<double>(bins));
-            bin = scaled <= 0 ? 0 : std::min(bins - 1, static_cast<std::size_t>(scaled));
-        }
+        const double scaled = std::floor(record.average() / top * static_cast<double>(bins));
+        const std::size_t bin = scaled <= 0 ? 0 : std::min(bins - 1, static_cast<std::size_t>(scaled));
         if (bins > 0) ++stats.histogram[bin].segments;
         counts.push_back(record.count);
         stats.observations += record.count;

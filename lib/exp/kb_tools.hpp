@@ -117,7 +117,8 @@ struct KbStats {
     double max_average = 0.0;
     /// 10 bins of width max_average / 10 over [0, max_average]; a segment
     /// falls in bin floor(10 * average / max_average), the maximum in the
-    /// last. With max_average <= 0 every segment is in the first bin.
+    /// last; negative averages count in the first. When max_average <= 0
+    /// the bins cover [0, 1] instead.
     std::vector<RewardBin> histogram;
     std::uint64_t observations = 0;  ///< sum of the counts
     std::uint64_t count_min = 0, count_max = 0;
