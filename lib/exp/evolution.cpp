@@ -93,16 +93,7 @@ GenerationWrite Evolution::initialise() {
         genomes.back().simplify();
     }
     const auto evaluations = evaluate(genomes);
-    for (std::size_t k = 0; k < count; ++k) {
-        Member& m = mixed[k];
-        m.id = next_id_++;
-        m.genome = std::move(genomes[k]);
-        m.reward = evaluations[k].reward;
-        m.balls = evaluations[k].balls;
-        m.steps = evaluations[k].steps;
-        m.cells = evaluations[k].cells;
-        nan_outputs_ += evaluations[k].nan_outputs;
-    }
+    for (std::size_t k = 0; k < count; ++k) mixed[k] = make_member(std::move(genomes[k]), evaluations[k], std::nullopt);
     return select(std::move(mixed), 0, started);
 }
 
@@ -136,18 +127,22 @@ GenerationWrite Evolution::epoch() {
     std::vector<Member> mixed = population_;
     const std::size_t first_new = mixed.size();
     for (std::size_t k = 0; k < genomes.size(); ++k) {
-        Member m;
-        m.id = next_id_++;
-        m.parent_id = population_[parents[k]].id;
-        m.genome = std::move(genomes[k]);
-        m.reward = evaluations[k].reward;
-        m.balls = evaluations[k].balls;
-        m.steps = evaluations[k].steps;
-        m.cells = evaluations[k].cells;
-        nan_outputs_ += evaluations[k].nan_outputs;
-        mixed.push_back(std::move(m));
+        mixed.push_back(make_member(std::move(genomes[k]), evaluations[k], population_[parents[k]].id));
     }
     return select(std::move(mixed), first_new, started);
+}
+
+Member Evolution::make_member(nn::Genome genome, const Evaluation& evaluation, std::optional<std::int64_t> parent) {
+    Member m;
+    m.id = next_id_++;
+    m.parent_id = parent;
+    m.genome = std::move(genome);
+    m.reward = evaluation.reward;
+    m.balls = evaluation.balls;
+    m.steps = evaluation.steps;
+    m.cells = evaluation.cells;
+    nan_outputs_ += evaluation.nan_outputs;
+    return m;
 }
 
 void Evolution::attach_kb(kb::KnowledgeBase kb, std::int64_t kb_id, const std::string& source_name) {

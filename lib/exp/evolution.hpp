@@ -65,6 +65,8 @@ public:
 
 private:
     GenerationWrite select(std::vector<Member> mixed, std::size_t first_new, double started);
+    /// A new member with the next id, counting its NaN outputs.
+    Member make_member(nn::Genome genome, const Evaluation& evaluation, std::optional<std::int64_t> parent);
     /// Evaluates `genomes`; observes them into the KB when this generation is an observing one.
     std::vector<Evaluation> evaluate(const std::vector<nn::Genome>& genomes);
 
