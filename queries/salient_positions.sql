@@ -20,8 +20,9 @@
 --       ON p.start = 0 AND p.step >= w.step_start AND p.step < w.step_end
 --     GROUP BY w.window_index ORDER BY w.window_index;
 --
--- (SQLite allows no parameters in views, hence the CTE. A policy that stopped early, after 100 still steps, has no CSV rows after its
--- last step; its behaviour repeats the last row there.)
+-- SQLite allows no parameters in views, hence the CTE. A policy that stopped
+-- early (after 100 still steps) has no CSV rows after its last step; its
+-- behaviour repeats the last row there.
 --
 -- Parameters:
 --   :kb_name        name of the knowledge base in the run file

@@ -1,0 +1,98 @@
+#include <catch2/catch.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include "core/error.hpp"
+#include "db/database.hpp"
+#include "exp/kb_tools.hpp"
+#include "exp/replay.hpp"
+#include "kb/calibrate.hpp"
+#include "kb_cli/fixtures.hpp"
+#include "sim/sensors.hpp"
+#include "support/run_cli.hpp"
+#include "support/temp_dir.hpp"
+
+using namespace stepstone;
+using Catch::Matchers::Contains;
+
+TEST_CASE("calibration of a hand-made behaviour follows the mean distance to the nearest others", "[kb_cli][calibrate]") {
+    // one channel, width 1: segments 0, 1, 3
+    const std::vector<float> behaviour{0, 1, 3};
+    const std::vector<std::vector<float>> policies{{0, 1, 3}, {0.2f, 10, 10}};
+    const std::vector<double> deltas{0.5, 1.5, 10};
+    const auto c = exp::calibrate_behaviours(behaviour, policies, 1, 1, deltas);
+    // 20 neighbours, 3 segments: each uses its 2 others:
+    // 0 -> (1 + 3) / 2 = 2, 1 -> (1 + 2) / 2 = 1.5, 3 -> (3 + 2) / 2 = 2.5; mean 2
+    CHECK(c.segments == 3);
+    CHECK(c.delta == Approx(2.0));
+    CHECK(c.policies == 2);
+    // sizes by hand, observing 0, 1, 3, then 0.2, 10, 10:
+    // delta 0.5: 0 1 3 inserted, 0.2 within 0.5 of 0, 10 inserted, second 10 credited: 4
+    // delta 1.5: 0, (1 credited to 0), 3, (0.2 credited), 10, (10 credited): 3
+    // delta 10: 0, (1), (3), (0.2), 10 is at exactly 10 from 0 (not < 10): inserted, (10): 2
+    REQUIRE(c.sizes.size() == 3);
+    CHECK(c.sizes[0].size == 4);
+    CHECK(c.sizes[1].size == 3);
+    CHECK(c.sizes[2].size == 2);
+    CHECK(c.sizes[2].delta == 10);
+
+    // one neighbour: 0 -> 1, 1 -> 1, 3 -> 2; mean 4/3
+    CHECK(exp::calibrate_behaviours(behaviour, {}, 1, 1, {}, 1).delta == Approx(4.0 / 3.0));
+
+    // a 2 x 2 behaviour with width 2 is one segment: the rule needs two
+    CHECK_THROWS_AS(exp::calibrate_behaviours(std::vector<float>{0, 1, 2, 3}, {}, 2, 2, {}), DataError);
+    CHECK_THROWS_WITH(exp::parse_deltas("1,,2"), Contains("--deltas"));
+    CHECK_THROWS_AS(exp::parse_deltas("1,-2"), ConfigError);
+    CHECK(exp::parse_deltas("0.5,1.83") == std::vector<double>{0.5, 1.83});
+}
+
+TEST_CASE("kb calibrate on a run uses the replayed best policy and the run's stored policies", "[kb_cli][calibrate]") {
+    test::TempDir dir;
+    kbtest::make_run(dir / "run.db");
+    const auto run = dir / "run.db";
+    auto result = test::run_cli({"kb", "calibrate", run.string(), "--individual", "best", "--deltas", "0.25,1,4", "--json"});
+    REQUIRE(result.exit_code == 0);
+    const auto out = nlohmann::json::parse(result.out);
+
+    // oracle: the library's rule on the replayed behaviour, width from the run's KB (10, not the default 20)
+    exp::Replay best;
+    const auto behaviour = exp::replay_behaviour(run, "best", &best);
+    const auto channels = static_cast<std::size_t>(sim::kChannels);
+    CHECK(out["segment_width"] == kbtest::kRunWidth);
+    CHECK(out["segment_width_from"] == "the run's knowledge base");
+    CHECK(out["individual_id"] == best.individual_id);
+    CHECK(out["segments"] == kbtest::kRunSteps / kbtest::kRunWidth);
+    CHECK(out["delta"].get<double>() ==
+          kb::calibrate_delta(kb::segment_behaviour(behaviour, channels, kbtest::kRunWidth), 20));
+
+    // the size table over every stored genome, in id order
+    std::vector<std::vector<float>> behaviours;
+    {
+        auto connection = db::open_database(run, db::OpenMode::read_only);
+        auto select = connection.prepare("SELECT individual_id FROM genome ORDER BY individual_id");
+        while (select.step()) behaviours.push_back(exp::replay_behaviour(run, std::to_string(select.column_int(0))));
+    }
+    std::vector<kb::Segments> segments;
+    for (const auto& b : behaviours) segments.push_back(kb::segment_behaviour(b, channels, kbtest::kRunWidth));
+    kb::KbParams params;
+    params.segment_width = kbtest::kRunWidth;
+    params.channels = channels;
+    const std::vector<double> deltas{0.25, 1, 4};
+    const auto sizes = kb::kb_sizes(params, segments, deltas);
+    CHECK(out["policies"] == behaviours.size());
+    REQUIRE(out["sizes"].size() == 3);
+    for (std::size_t i = 0; i < 3; ++i) {
+        CHECK(out["sizes"][i]["delta"] == deltas[i]);
+        CHECK(out["sizes"][i]["segments"] == sizes[i].size);
+    }
+    // a larger delta never gives a larger KB
+    CHECK(sizes[0].size >= sizes[1].size);
+    CHECK(sizes[1].size >= sizes[2].size);
+
+    // --segment-width overrides the run's KB; the text form names the rule
+    result = test::run_cli({"kb", "calibrate", run.string(), "--segment-width", "20"});
+    REQUIRE(result.exit_code == 0);
+    CHECK_THAT(result.out, Contains("segment_width   20 (--segment-width)"));
+    CHECK_THAT(result.out, Contains("segments        10 of 15 channels"));
+    CHECK_THAT(result.out, Contains("KB size over the"));
+}

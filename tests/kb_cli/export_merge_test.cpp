@@ -1,0 +1,134 @@
+#include <catch2/catch.hpp>
+
+#include "db/database.hpp"
+#include "db/kb_store.hpp"
+#include "kb_cli/fixtures.hpp"
+#include "support/run_cli.hpp"
+#include "support/temp_dir.hpp"
+
+using namespace stepstone;
+using Catch::Matchers::Contains;
+
+namespace {
+
+// A: (0,0) seen with rewards 1 and 0.5, (3,3) with 0.25
+std::vector<kbtest::Policy> policies_a() { return {{0, 0, 1.0, 0}, {0, 0, 0.5, 1}, {3, 3, 0.25, 2}}; }
+// B: (0.1,0) seen with rewards 0.5 and 0.3, (5,5) with 1
+std::vector<kbtest::Policy> policies_b() { return {{0.1f, 0, 0.5, 4}, {5, 5, 1.0, 5}, {0.1f, 0, 0.3, 6}}; }
+
+}  // namespace
+
+TEST_CASE("kb export writes the run's knowledge base unchanged under the same name", "[kb_cli][export]") {
+    test::TempDir dir;
+    kbtest::make_run(dir / "run.db");
+    auto result = test::run_cli({"kb", "export", (dir / "run.db").string(), "--out", (dir / "kb.db").string()});
+    REQUIRE(result.exit_code == 0);
+    CHECK_THAT(result.out, Contains("knowledge base \"run\""));
+
+    auto run = db::open_database(dir / "run.db", db::OpenMode::read_only);
+    auto file = db::open_database(dir / "kb.db", db::OpenMode::read_only);
+    const auto from_run = db::load_kb(run, "run");
+    const auto exported = db::load_kb(file);
+    CHECK(exported.name == "run");
+    CHECK(db::list_kbs(file).size() == 1);
+    CHECK(exported.kb.params().segment_width == kbtest::kRunWidth);  // the config's width
+    CHECK(exported.kb.params().delta == 1.0);
+    REQUIRE(exported.kb.size() == from_run.kb.size());
+    REQUIRE(exported.kb.size() > 0);
+    CHECK(std::equal(exported.kb.values().begin(), exported.kb.values().end(), from_run.kb.values().begin()));
+    for (std::size_t i = 0; i < exported.kb.size(); ++i) {
+        const auto& a = exported.kb.record(i);
+        const auto& b = from_run.kb.record(i);
+        CHECK(a.cum_reward == b.cum_reward);
+        CHECK(a.count == b.count);
+        CHECK(a.first.generation == b.first.generation);
+        CHECK(a.last.generation == b.last.generation);
+    }
+    REQUIRE(exported.kb.sources().size() == 1);
+    CHECK(exported.kb.sources()[0].run == from_run.kb.sources()[0].run);
+    CHECK(exported.kb.sources()[0].last_generation == 3);  // generations 0 to 3, period 1
+    CHECK(exported.kb.sources()[0].policies == from_run.kb.sources()[0].policies);
+}
+
+TEST_CASE("kb merge adds counts and cumulated rewards of segments within delta and keeps provenance", "[kb_cli][merge]") {
+    test::TempDir dir;
+    kbtest::write_kb(dir / "a.db", "a", kbtest::point_kb("run-a", policies_a()));
+    kbtest::write_kb(dir / "b.db", "b", kbtest::point_kb("run-b", policies_b()));
+    auto result = test::run_cli(
+        {"kb", "merge", (dir / "a.db").string(), (dir / "b.db").string(), "--out", (dir / "m.db").string()});
+    REQUIRE(result.exit_code == 0);
+
+    auto connection = db::open_database(dir / "m.db", db::OpenMode::read_only);
+    const auto merged = db::load_kb(connection);
+    CHECK(merged.name == "a");  // the first KB's name
+    // by hand: B's (0.1,0) is 0.1 from A's (0,0) (< 0.5): cum 1.5 + 0.8, count 2 + 2;
+    // B's (5,5) is 2.83 from (3,3): inserted after A's segments
+    REQUIRE(merged.kb.size() == 3);
+    CHECK(merged.kb.record(0).cum_reward == Approx(2.3));
+    CHECK(merged.kb.record(0).count == 4);
+    CHECK(merged.kb.record(1).cum_reward == 0.25);
+    CHECK(merged.kb.record(1).count == 1);
+    CHECK(merged.kb.record(2).cum_reward == 1.0);
+    CHECK(merged.kb.record(2).count == 1);
+    CHECK(merged.kb.segment(2)[0] == 5.0f);
+    // provenance: both runs, generations and policies as observed
+    REQUIRE(merged.kb.sources().size() == 2);
+    CHECK(merged.kb.sources()[0].run == "run-a");
+    CHECK(merged.kb.sources()[0].policies == 3);
+    CHECK(merged.kb.sources()[1].run == "run-b");
+    CHECK(merged.kb.sources()[1].first_generation == 4);
+    CHECK(merged.kb.sources()[1].last_generation == 6);
+    CHECK(merged.kb.record(2).first.source == 1);  // inserted from run-b
+    CHECK(merged.kb.record(0).last.source == 1);   // last credited by run-b
+
+    // --name renames the output
+    result = test::run_cli({"kb", "merge", (dir / "a.db").string(), (dir / "b.db").string(), "--out",
+                            (dir / "n.db").string(), "--name", "both"});
+    REQUIRE(result.exit_code == 0);
+    auto named = db::open_database(dir / "n.db", db::OpenMode::read_only);
+    CHECK(db::list_kbs(named).at(0).name == "both");
+}
+
+TEST_CASE("kb merge is deterministic in the given order", "[kb_cli][merge][determinism]") {
+    test::TempDir dir;
+    kbtest::write_kb(dir / "a.db", "a", kbtest::point_kb("run-a", policies_a()));
+    kbtest::write_kb(dir / "b.db", "b", kbtest::point_kb("run-b", policies_b()));
+    const auto a = (dir / "a.db").string();
+    const auto b = (dir / "b.db").string();
+    REQUIRE(test::run_cli({"kb", "merge", a, b, "--out", (dir / "ab1.db").string()}).exit_code == 0);
+    REQUIRE(test::run_cli({"kb", "merge", a, b, "--out", (dir / "ab2.db").string()}).exit_code == 0);
+    REQUIRE(test::run_cli({"kb", "merge", b, a, "--out", (dir / "ba.db").string()}).exit_code == 0);
+    CHECK(kbtest::segment_rows(dir / "ab1.db") == kbtest::segment_rows(dir / "ab2.db"));
+
+    // B first: B's (0.1,0) keeps id 0 and absorbs A's (0,0); A's (3,3) comes last
+    const auto ba = kbtest::load_kb(dir / "ba.db");
+    REQUIRE(ba.size() == 3);
+    CHECK(ba.segment(0)[0] == 0.1f);
+    CHECK(ba.record(0).cum_reward == Approx(2.3));
+    CHECK(ba.record(0).count == 4);
+    CHECK(ba.segment(1)[0] == 5.0f);
+    CHECK(ba.segment(2)[0] == 3.0f);
+    CHECK(ba.sources()[0].run == "run-b");
+    CHECK(kbtest::segment_rows(dir / "ba.db") != kbtest::segment_rows(dir / "ab1.db"));
+}
+
+TEST_CASE("kb merge refuses KBs of another delta or channel count, naming both files, and writes nothing", "[kb_cli][merge][errors]") {
+    test::TempDir dir;
+    kbtest::write_kb(dir / "a.db", "a", kbtest::point_kb("run-a", policies_a()));
+    kbtest::write_kb(dir / "wide.db", "w", kbtest::point_kb("run-w", policies_b(), 0.7));
+    kbtest::write_kb(dir / "three.db", "t", kbtest::point_kb("run-t", policies_b(), 0.5, 3));
+    const auto before = kbtest::files_in(dir.path());
+
+    auto result = test::run_cli({"kb", "merge", (dir / "a.db").string(), (dir / "wide.db").string(), "--out",
+                                 (dir / "m.db").string()});
+    CHECK(result.exit_code == 1);
+    REQUIRE(result.err_lines().size() == 1);
+    CHECK_THAT(result.err, Contains("a.db") && Contains("wide.db") && Contains("delta is 0.7") && Contains("0.5"));
+
+    result = test::run_cli({"kb", "merge", (dir / "a.db").string(), (dir / "a.db").string(), (dir / "three.db").string(),
+                            "--out", (dir / "m.db").string()});
+    CHECK(result.exit_code == 1);
+    REQUIRE(result.err_lines().size() == 1);
+    CHECK_THAT(result.err, Contains("three.db") && Contains("channels is 3") && Contains("2 in a.db"));
+    CHECK(kbtest::files_in(dir.path()) == before);  // no output, no temporary file
+}
