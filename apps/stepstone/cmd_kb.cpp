@@ -4,11 +4,10 @@
 #include <iomanip>
 #include <iostream>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "commands.hpp"
 #include "core/error.hpp"
@@ -21,9 +20,9 @@ namespace stepstone::app {
 namespace {
 
 void print_written(const std::string& out, const exp::KbWritten& kb) {
-    std::cout << out << ": knowledge base \"" << kb.name << "\", " << kb.segments << " segments (segment_width "
-              << kb.params.segment_width << ", channels " << kb.params.channels << ", delta " << kb.params.delta
-              << ")";
+    std::cout << out << ": knowledge base \"" << kb.name << "\", " << kb.segments
+              << " segments (segment_width " << kb.params.segment_width << ", channels " << kb.params.channels
+              << ", delta " << kb.params.delta << ")";
     if (kb.randomized_seed) std::cout << ", randomized with seed " << *kb.randomized_seed;
     std::cout << '\n';
 }
@@ -45,7 +44,9 @@ void add_export(CLI::App& kb_cmd) {
     cmd->add_option("--name", flags->name, "Name of the KB in the run file (default: run)");
     cmd->add_flag("--force", flags->force, "Overwrite an existing --out file");
     cmd->footer(example({"stepstone kb export run.db --out kb.db"}));
-    cmd->callback([flags] { print_written(flags->out, exp::export_kb(flags->run, flags->name, flags->out, flags->force)); });
+    cmd->callback([flags] {
+        print_written(flags->out, exp::export_kb(flags->run, flags->name, flags->out, flags->force));
+    });
 }
 
 // -------------------------------------------------------------------- merge
@@ -62,16 +63,19 @@ void add_merge(CLI::App& kb_cmd) {
     auto flags = std::make_shared<MergeFlags>();
     auto* cmd = kb_cmd.add_subcommand(
         "merge", "Merge KB files: the segments of each later KB are observed into the first under its delta");
-    cmd->add_option("kbs", flags->inputs, "Two or more KB or run files (opened read-only), merged in this order")
+    cmd->add_option("kbs", flags->inputs,
+                    "Two or more KB or run files (opened read-only), merged in this order")
         ->required();
     cmd->add_option("--out", flags->out, "New KB file (written atomically)")->required();
     cmd->add_option("--name", flags->name, "Name of the merged KB (default: the first KB's name)");
-    cmd->add_option("--kb-name", flags->input_name, "Which KB to read from each input (default: its only one)");
+    cmd->add_option("--kb-name", flags->input_name,
+                    "Which KB to read from each input (default: its only one)");
     cmd->add_flag("--force", flags->force, "Overwrite an existing --out file");
     cmd->footer(example({"stepstone kb merge a.db b.db c.db --out merged.db"}));
     cmd->callback([flags] {
         std::vector<std::filesystem::path> inputs(flags->inputs.begin(), flags->inputs.end());
-        print_written(flags->out, exp::merge_kb_files(inputs, flags->out, flags->name, flags->force, flags->input_name));
+        print_written(flags->out,
+                      exp::merge_kb_files(inputs, flags->out, flags->name, flags->force, flags->input_name));
     });
 }
 
@@ -98,9 +102,8 @@ void add_randomize(CLI::App& kb_cmd) {
     cmd->add_flag("--force", flags->force, "Overwrite an existing --out file");
     cmd->footer(example({"stepstone kb randomize merged.db --out rand.db --seed 7"}));
     cmd->callback([flags] {
-        print_written(flags->out,
-                      exp::randomize_kb_file(flags->in, flags->out, flags->seed, flags->name, flags->force,
-                                             flags->input_name));
+        print_written(flags->out, exp::randomize_kb_file(flags->in, flags->out, flags->seed, flags->name,
+                                                         flags->force, flags->input_name));
     });
 }
 
@@ -136,7 +139,8 @@ void run_calibrate(const CalibrateFlags& flags) {
         out["delta"] = c.delta;
         out["policies"] = c.policies;
         out["sizes"] = nlohmann::json::array();
-        for (const auto& row : c.sizes) out["sizes"].push_back({{"delta", row.delta}, {"segments", row.size}});
+        for (const auto& row : c.sizes)
+            out["sizes"].push_back({{"delta", row.delta}, {"segments", row.size}});
         std::cout << out.dump(2) << '\n';
         return;
     }
@@ -149,19 +153,20 @@ void run_calibrate(const CalibrateFlags& flags) {
     std::cout << "\nKB size over the " << c.policies << " stored policies\n"
               << "  delta       segments\n";
     for (const auto& row : c.sizes) {
-        std::cout << "  " << std::left << std::setw(10) << row.delta << std::right << std::setw(10) << row.size
-                  << '\n';
+        std::cout << "  " << std::left << std::setw(10) << row.delta << std::right << std::setw(10)
+                  << row.size << '\n';
     }
 }
 
 void add_calibrate(CLI::App& kb_cmd) {
     auto flags = std::make_shared<CalibrateFlags>();
     auto* cmd = kb_cmd.add_subcommand(
-        "calibrate", "The paper's delta rule on a stored policy, and the KB size per delta over the run's policies");
+        "calibrate",
+        "The paper's delta rule on a stored policy, and the KB size per delta over the run's policies");
     cmd->add_option("run", flags->run, "Run database (opened read-only)")->required();
     cmd->add_option("--individual", flags->individual, "The successful policy: 'best' (default) or an id");
-    cmd->add_option("--deltas", flags->deltas, "Comma-separated deltas for the size table (default: " + flags->deltas +
-                                                    ")");
+    cmd->add_option("--deltas", flags->deltas,
+                    "Comma-separated deltas for the size table (default: " + flags->deltas + ")");
     cmd->add_option("--segment-width", flags->segment_width,
                     "Steps per segment (default: the run's knowledge base's, else 20)");
     cmd->add_option("--neighbours", flags->neighbours, "Nearest segments averaged by the rule (default: 20)");
@@ -210,7 +215,8 @@ struct AnnotateFlags {
 void add_annotate(CLI::App& kb_cmd) {
     auto flags = std::make_shared<AnnotateFlags>();
     auto* cmd = kb_cmd.add_subcommand(
-        "annotate", "Replay stored policies and record each segment's KB match in the run file (policy_segment)");
+        "annotate",
+        "Replay stored policies and record each segment's KB match in the run file (policy_segment)");
     cmd->add_option("run", flags->run, "Run database (updated in one transaction)")->required();
     cmd->add_option("--kb", flags->kb, "KB file (opened read-only); copied into the run file")->required();
     cmd->add_option("--individuals", flags->individuals,
@@ -229,10 +235,11 @@ void add_annotate(CLI::App& kb_cmd) {
 }
 
 void add_kb_command(CLI::App& app) {
-    auto* kb_cmd = app.add_subcommand("kb", "Export, merge, randomize, calibrate, inspect and apply knowledge bases");
+    auto* kb_cmd =
+        app.add_subcommand("kb", "Export, merge, randomize, calibrate, inspect and apply knowledge bases");
     kb_cmd->require_subcommand(1);
-    kb_cmd->footer(example({"stepstone kb export run.db --out kb.db", "stepstone kb merge a.db b.db --out merged.db",
-                            "stepstone kb stats merged.db"}));
+    kb_cmd->footer(example({"stepstone kb export run.db --out kb.db",
+                            "stepstone kb merge a.db b.db --out merged.db", "stepstone kb stats merged.db"}));
     add_export(*kb_cmd);
     add_merge(*kb_cmd);
     add_randomize(*kb_cmd);

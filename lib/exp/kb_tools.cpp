@@ -55,10 +55,11 @@ db::StoredKb load_kb_file(const fs::path& path, const std::string& name) {
 }
 
 // the first parameter in which two KBs differ, named as the CLI and config do
-std::optional<std::string> params_mismatch(const kb::KbParams& a, const kb::KbParams& b, const std::string& a_name,
-                                           const std::string& b_name) {
+std::optional<std::string> params_mismatch(const kb::KbParams& a, const kb::KbParams& b,
+                                           const std::string& a_name, const std::string& b_name) {
     if (a.segment_width != b.segment_width) {
-        return concat("segment_width is ", b.segment_width, " in ", b_name, ", ", a.segment_width, " in ", a_name);
+        return concat("segment_width is ", b.segment_width, " in ", b_name, ", ", a.segment_width, " in ",
+                      a_name);
     }
     if (a.channels != b.channels) {
         return concat("channels is ", b.channels, " in ", b_name, ", ", a.channels, " in ", a_name);
@@ -71,7 +72,8 @@ std::optional<std::string> params_mismatch(const kb::KbParams& a, const kb::KbPa
 
 // the ids of the run's stored genomes, in increasing order
 std::vector<std::int64_t> stored_individuals(db::Connection& connection, std::int64_t run_id) {
-    auto select = connection.prepare("SELECT individual_id FROM genome WHERE run_id = ?1 ORDER BY individual_id");
+    auto select =
+        connection.prepare("SELECT individual_id FROM genome WHERE run_id = ?1 ORDER BY individual_id");
     select.bind(1, run_id);
     std::vector<std::int64_t> ids;
     while (select.step()) ids.push_back(select.column_int(0));
@@ -81,7 +83,8 @@ std::vector<std::int64_t> stored_individuals(db::Connection& connection, std::in
 // the first front of the last checkpointed population, restricted to stored genomes
 std::vector<std::int64_t> front_individuals(db::Connection& connection, std::int64_t run_id) {
     const auto checkpoint = load_checkpoint(connection, run_id);
-    if (!checkpoint) throw DataError(concat(connection.name(), ": run ", run_id, " has no committed generation"));
+    if (!checkpoint)
+        throw DataError(concat(connection.name(), ": run ", run_id, " has no committed generation"));
     std::vector<std::int64_t> ids;
     evo::Objectives objectives;
     try {
@@ -90,17 +93,20 @@ std::vector<std::int64_t> front_individuals(db::Connection& connection, std::int
             objectives.push_back(member.at("objectives").get<std::vector<double>>());
         }
     } catch (const nlohmann::json::exception& e) {
-        throw DatabaseError(concat(connection.name(), ": run ", run_id, " has a malformed checkpoint: ",
-                                   one_line(e.what())));
+        throw DatabaseError(
+            concat(connection.name(), ": run ", run_id, " has a malformed checkpoint: ", one_line(e.what())));
     }
     const auto stored = stored_individuals(connection, run_id);
     std::vector<std::int64_t> front;
     const auto fronts = evo::non_dominated_fronts(objectives);
+    if (fronts.empty())
+        throw DataError(concat(connection.name(), ": run ", run_id, " has an empty checkpoint population"));
     for (std::size_t k : fronts.front()) {
         if (std::binary_search(stored.begin(), stored.end(), ids[k])) front.push_back(ids[k]);
     }
     std::sort(front.begin(), front.end());
-    if (front.empty()) throw DataError(concat(connection.name(), ": no genome of the last first front is stored"));
+    if (front.empty())
+        throw DataError(concat(connection.name(), ": no genome of the last first front is stored"));
     return front;
 }
 
@@ -126,12 +132,12 @@ void check_kb_fits(const kb::KbParams& params, const std::string& kb_what, std::
                    const std::string& run_file) {
     const auto channels = static_cast<std::size_t>(sim::kChannels);
     if (params.channels != channels) {
-        throw DataError(concat(kb_what, " has ", params.channels, " channels, the behaviours of ", run_file, " have ",
-                               channels));
+        throw DataError(concat(kb_what, " has ", params.channels, " channels, the behaviours of ", run_file,
+                               " have ", channels));
     }
     if (params.segment_width > steps) {
-        throw DataError(concat(kb_what, " has segment_width ", params.segment_width, ", the behaviours of ", run_file,
-                               " last ", steps, " steps"));
+        throw DataError(concat(kb_what, " has segment_width ", params.segment_width, ", the behaviours of ",
+                               run_file, " last ", steps, " steps"));
     }
 }
 
@@ -143,7 +149,8 @@ bool same_kb(const kb::KnowledgeBase& a, const kb::KnowledgeBase& b) {
         return false;
     }
     for (std::size_t i = 0; i < a.size(); ++i) {
-        if (a.record(i).cum_reward != b.record(i).cum_reward || a.record(i).count != b.record(i).count) return false;
+        if (a.record(i).cum_reward != b.record(i).cum_reward || a.record(i).count != b.record(i).count)
+            return false;
     }
     const auto va = a.values();
     const auto vb = b.values();
@@ -173,16 +180,18 @@ KbWritten export_kb(const fs::path& run_db, const std::string& name, const fs::p
     return written(stored.name, stored.kb, stored.randomized_seed);
 }
 
-KbWritten merge_kb_files(std::span<const fs::path> inputs, const fs::path& out, const std::string& name, bool force,
-                         const std::string& input_name) {
-    if (inputs.size() < 2) throw ConfigError(concat("kb merge needs at least two KB files, got ", inputs.size()));
+KbWritten merge_kb_files(std::span<const fs::path> inputs, const fs::path& out, const std::string& name,
+                         bool force, const std::string& input_name) {
+    if (inputs.size() < 2)
+        throw ConfigError(concat("kb merge needs at least two KB files, got ", inputs.size()));
     db::check_output_path(out, force);
     // every input is loaded and checked before the output is created
     std::vector<db::StoredKb> loaded;
     for (const auto& path : inputs) loaded.push_back(load_kb_file(path, input_name));
     const std::string first = file_name(inputs[0]);
     for (std::size_t i = 1; i < loaded.size(); ++i) {
-        if (auto mismatch = params_mismatch(loaded[0].kb.params(), loaded[i].kb.params(), first, file_name(inputs[i]))) {
+        if (auto mismatch =
+                params_mismatch(loaded[0].kb.params(), loaded[i].kb.params(), first, file_name(inputs[i]))) {
             throw DataError(concat("cannot merge ", file_name(inputs[i]), " into ", first, ": ", *mismatch));
         }
     }
@@ -193,8 +202,8 @@ KbWritten merge_kb_files(std::span<const fs::path> inputs, const fs::path& out, 
     return written(out_name, merged, std::nullopt);
 }
 
-KbWritten randomize_kb_file(const fs::path& in, const fs::path& out, std::uint64_t seed, const std::string& name,
-                            bool force, const std::string& input_name) {
+KbWritten randomize_kb_file(const fs::path& in, const fs::path& out, std::uint64_t seed,
+                            const std::string& name, bool force, const std::string& input_name) {
     db::check_output_path(out, force);
     const auto stored = load_kb_file(in, input_name);
     const kb::KnowledgeBase randomized = stored.kb.randomized(seed);
@@ -215,7 +224,8 @@ std::vector<double> parse_deltas(const std::string& text, const std::string& wha
         const auto parsed = std::from_chars(item.data(), item.data() + item.size(), value);
         if (item.empty() || parsed.ec != std::errc() || parsed.ptr != item.data() + item.size() ||
             !std::isfinite(value) || value <= 0.0) {
-            throw ConfigError(concat(what, " must be a comma-separated list of numbers > 0, got \"", text, '"'));
+            throw ConfigError(
+                concat(what, " must be a comma-separated list of numbers > 0, got \"", text, '"'));
         }
         deltas.push_back(value);
         start = comma + 1;
@@ -224,8 +234,8 @@ std::vector<double> parse_deltas(const std::string& text, const std::string& wha
 }
 
 Calibration calibrate_behaviours(std::span<const float> policy, std::span<const std::vector<float>> policies,
-                                 std::size_t channels, std::size_t segment_width, std::span<const double> deltas,
-                                 std::size_t neighbours) {
+                                 std::size_t channels, std::size_t segment_width,
+                                 std::span<const double> deltas, std::size_t neighbours) {
     Calibration result;
     result.segment_width = segment_width;
     result.channels = channels;
@@ -235,7 +245,8 @@ Calibration calibrate_behaviours(std::span<const float> policy, std::span<const 
     result.delta = kb::calibrate_delta(own, neighbours);
 
     std::vector<kb::Segments> segmented;
-    for (const auto& behaviour : policies) segmented.push_back(kb::segment_behaviour(behaviour, channels, segment_width));
+    for (const auto& behaviour : policies)
+        segmented.push_back(kb::segment_behaviour(behaviour, channels, segment_width));
     result.policies = segmented.size();
     if (!deltas.empty()) {
         kb::KbParams params;
@@ -281,7 +292,8 @@ RunCalibration calibrate_run(const fs::path& run_db, const CalibrateOptions& opt
     if (!options.deltas.empty()) {
         for (std::int64_t id : ids) behaviours.push_back(replay_behaviour(run_db, std::to_string(id)));
     }
-    out.calibration = calibrate_behaviours(best, behaviours, channels, width, options.deltas, options.neighbours);
+    out.calibration =
+        calibrate_behaviours(best, behaviours, channels, width, options.deltas, options.neighbours);
     return out;
 }
 
@@ -342,14 +354,16 @@ nlohmann::json to_json(const KbStats& stats) {
     out["channels"] = stats.params.channels;
     out["delta"] = stats.params.delta;
     out["match"] = db::to_string(stats.params.match);
-    out["randomized_seed"] = stats.randomized_seed ? nlohmann::json(*stats.randomized_seed) : nlohmann::json();
+    out["randomized_seed"] =
+        stats.randomized_seed ? nlohmann::json(*stats.randomized_seed) : nlohmann::json();
     out["max_average_reward"] = stats.max_average;
     out["histogram"] = nlohmann::json::array();
     for (const auto& bin : stats.histogram) {
         out["histogram"].push_back({{"low", bin.low}, {"high", bin.high}, {"segments", bin.segments}});
     }
-    out["counts"] = {{"observations", stats.observations}, {"min", stats.count_min},   {"median", stats.count_median},
-                     {"mean", stats.count_mean},           {"max", stats.count_max},   {"seen_once", stats.count_one}};
+    out["counts"] = {
+        {"observations", stats.observations}, {"min", stats.count_min}, {"median", stats.count_median},
+        {"mean", stats.count_mean},           {"max", stats.count_max}, {"seen_once", stats.count_one}};
     out["sources"] = nlohmann::json::array();
     for (const auto& source : stats.sources) {
         out["sources"].push_back({{"run", source.run},
@@ -381,21 +395,21 @@ void write_text(std::ostream& out, const KbStats& stats) {
         const char close = b + 1 == stats.histogram.size() ? ']' : ')';
         std::ostringstream range;
         range << std::fixed << std::setprecision(4) << '[' << bin.low << ", " << bin.high << close;
-        out << "  " << std::left << std::setw(20) << range.str() << std::right << std::setw(10) << bin.segments << "  "
-            << std::string(bar, '#') << '\n';
+        out << "  " << std::left << std::setw(20) << range.str() << std::right << std::setw(10)
+            << bin.segments << "  " << std::string(bar, '#') << '\n';
     }
 
-    out << "\ncounts          observations " << stats.observations << ", min " << stats.count_min << ", median "
-        << stats.count_median << ", mean " << stats.count_mean << ", max " << stats.count_max << ", seen once "
-        << stats.count_one << '\n';
-    out << "\nprovenance      " << stats.sources.size() << (stats.sources.size() == 1 ? " source" : " sources")
-        << '\n';
+    out << "\ncounts          observations " << stats.observations << ", min " << stats.count_min
+        << ", median " << stats.count_median << ", mean " << stats.count_mean << ", max " << stats.count_max
+        << ", seen once " << stats.count_one << '\n';
+    out << "\nprovenance      " << stats.sources.size()
+        << (stats.sources.size() == 1 ? " source" : " sources") << '\n';
     for (const auto& source : stats.sources) {
-        out << "  " << source.run << ": generations " << source.first_generation << " to " << source.last_generation
-            << ", " << source.policies << " policies\n";
+        out << "  " << source.run << ": generations " << source.first_generation << " to "
+            << source.last_generation << ", " << source.policies << " policies\n";
     }
-    out << "\nbytes/segment   " << std::fixed << std::setprecision(1) << stats.bytes_per_segment << " in memory, "
-        << stats.file_bytes_per_segment << " in the file\n"
+    out << "\nbytes/segment   " << std::fixed << std::setprecision(1) << stats.bytes_per_segment
+        << " in memory, " << stats.file_bytes_per_segment << " in the file\n"
         << std::defaultfloat;
 }
 
@@ -408,8 +422,8 @@ PolicySet parse_policy_set(const std::string& text) {
     throw ConfigError(concat("--individuals must be one of best|front|all, got \"", text, '"'));
 }
 
-Annotation annotate_run(const fs::path& run_db, const fs::path& kb_db, PolicySet which, const std::string& kb_name,
-                        const std::string& as_name) {
+Annotation annotate_run(const fs::path& run_db, const fs::path& kb_db, PolicySet which,
+                        const std::string& kb_name, const std::string& as_name) {
     const auto stored = load_kb_file(kb_db, kb_name);
     const std::string kb_what = concat(file_name(kb_db), ": knowledge base \"", stored.name, '"');
     Annotation result;
@@ -422,8 +436,8 @@ Annotation annotate_run(const fs::path& run_db, const fs::path& kb_db, PolicySet
         const auto behaviour = replay_behaviour(run_db, std::to_string(id));
         const auto channels = static_cast<std::size_t>(sim::kChannels);
         check_kb_fits(stored.kb.params(), kb_what, behaviour.size() / channels, file_name(run_db));
-        lookups.push_back(stored.kb.lookup(
-            kb::segment_behaviour(behaviour, channels, stored.kb.params().segment_width)));
+        lookups.push_back(
+            stored.kb.lookup(kb::segment_behaviour(behaviour, channels, stored.kb.params().segment_width)));
     }
 
     auto connection = db::open_database(run_db, db::OpenMode::read_write);
@@ -450,7 +464,10 @@ Annotation annotate_run(const fs::path& run_db, const fs::path& kb_db, PolicySet
         const auto& segments = lookups[p].segments;
         for (std::size_t s = 0; s < segments.size(); ++s) {
             insert.reset();
-            insert.bind(1, run.id).bind(2, result.individuals[p]).bind(3, result.kb_id).bind(4, static_cast<std::int64_t>(s));
+            insert.bind(1, run.id)
+                .bind(2, result.individuals[p])
+                .bind(3, result.kb_id)
+                .bind(4, static_cast<std::int64_t>(s));
             if (segments[s].id) {
                 insert.bind(5, static_cast<std::int64_t>(*segments[s].id));
             } else {
@@ -517,8 +534,8 @@ nlohmann::json to_json(const Shaping& shaping) {
 }
 
 void write_text(std::ostream& out, const Shaping& shaping) {
-    out << "individual " << shaping.individual_id << " (generation " << shaping.generation << "), stored reward "
-        << shaping.stored_reward << '\n'
+    out << "individual " << shaping.individual_id << " (generation " << shaping.generation
+        << "), stored reward " << shaping.stored_reward << '\n'
         << "knowledge base \"" << shaping.kb_name << "\": segment_width " << shaping.params.segment_width
         << ", channels " << shaping.params.channels << ", delta " << shaping.params.delta << ", match "
         << db::to_string(shaping.params.match) << ", max average " << shaping.max_average << '\n'
@@ -529,8 +546,8 @@ void write_text(std::ostream& out, const Shaping& shaping) {
         const auto& match = shaping.segments[s];
         out << std::left << std::setw(9) << s << std::setw(15) << concat(s * width, '-', (s + 1) * width)
             << std::setw(12) << (match.id ? concat(*match.id) : std::string("none")) << std::setw(12)
-            << concat(std::setprecision(6), match.distance) << concat(std::setprecision(6), match.average_reward)
-            << std::right << '\n';
+            << concat(std::setprecision(6), match.distance)
+            << concat(std::setprecision(6), match.average_reward) << std::right << '\n';
     }
 }
 

@@ -3,13 +3,12 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <ostream>
 #include <span>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "kb/calibrate.hpp"
 #include "kb/knowledge_base.hpp"
@@ -36,8 +35,8 @@ struct KbWritten {
 /// segments, randomized seed) into a new file `out` under the same name.
 /// Throws DataError if the run file has no such KB, DatabaseError for an
 /// unusable file, ConfigError for an existing output without `force`.
-KbWritten export_kb(const std::filesystem::path& run_db, const std::string& name, const std::filesystem::path& out,
-                    bool force);
+KbWritten export_kb(const std::filesystem::path& run_db, const std::string& name,
+                    const std::filesystem::path& out, bool force);
 
 /// `kb merge`: loads the only KB of each input (or the one called
 /// `input_name` when given) and merges every later one into the first, in
@@ -52,20 +51,21 @@ KbWritten merge_kb_files(std::span<const std::filesystem::path> inputs, const st
 /// `kb randomize`: the KB of `in` with averages drawn from U[0, 1)
 /// (kb::KnowledgeBase::randomized(seed)), stored with its randomized_seed
 /// under `name` (empty: the input's name followed by "-rand").
-KbWritten randomize_kb_file(const std::filesystem::path& in, const std::filesystem::path& out, std::uint64_t seed,
-                            const std::string& name, bool force, const std::string& input_name = "");
+KbWritten randomize_kb_file(const std::filesystem::path& in, const std::filesystem::path& out,
+                            std::uint64_t seed, const std::string& name, bool force,
+                            const std::string& input_name = "");
 
 // ---------------------------------------------------------------- calibrate
 
 /// The delta rule and the KB size table computed from behaviours.
 struct Calibration {
-    std::size_t segment_width = 0;      ///< steps per segment used
-    std::size_t channels = 0;           ///< channels of the behaviours
-    std::size_t neighbours = 20;        ///< the "20 closest" of the rule
-    std::size_t segments = 0;           ///< segments of the calibrating policy
-    double delta = 0.0;                 ///< kb::calibrate_delta on the calibrating policy
-    std::size_t policies = 0;           ///< policies fed to the size table
-    std::vector<kb::DeltaSize> sizes;   ///< KB size per delta, in the order asked
+    std::size_t segment_width = 0;     ///< steps per segment used
+    std::size_t channels = 0;          ///< channels of the behaviours
+    std::size_t neighbours = 20;       ///< the "20 closest" of the rule
+    std::size_t segments = 0;          ///< segments of the calibrating policy
+    double delta = 0.0;                ///< kb::calibrate_delta on the calibrating policy
+    std::size_t policies = 0;          ///< policies fed to the size table
+    std::vector<kb::DeltaSize> sizes;  ///< KB size per delta, in the order asked
 };
 
 /// The paper's delta rule on `policy` (a behaviour matrix: rows = steps,
@@ -73,23 +73,23 @@ struct Calibration {
 /// `policies` in order. Throws DataError for bad behaviours (too few
 /// segments, NaN) and ConfigError for a delta <= 0.
 Calibration calibrate_behaviours(std::span<const float> policy, std::span<const std::vector<float>> policies,
-                                 std::size_t channels, std::size_t segment_width, std::span<const double> deltas,
-                                 std::size_t neighbours = 20);
+                                 std::size_t channels, std::size_t segment_width,
+                                 std::span<const double> deltas, std::size_t neighbours = 20);
 
 /// What `kb calibrate` reads from a run file.
 struct CalibrateOptions {
-    std::string individual = "best";            ///< the successful policy: "best" or an id
-    std::optional<std::size_t> segment_width;   ///< absent: the run KB's, else 20
-    std::vector<double> deltas;                 ///< the size table's deltas (empty: no table)
+    std::string individual = "best";           ///< the successful policy: "best" or an id
+    std::optional<std::size_t> segment_width;  ///< absent: the run KB's, else 20
+    std::vector<double> deltas;                ///< the size table's deltas (empty: no table)
     std::size_t neighbours = 20;
 };
 
 /// calibrate_behaviours on a run: the replayed behaviour of `individual` and
 /// of every stored genome (in individual id order).
 struct RunCalibration {
-    std::int64_t individual_id = 0;   ///< the calibrating policy
-    double reward = 0.0;              ///< its stored reward
-    std::string width_from;           ///< "--segment-width", "the run's knowledge base" or "default"
+    std::int64_t individual_id = 0;  ///< the calibrating policy
+    double reward = 0.0;             ///< its stored reward
+    std::string width_from;          ///< "--segment-width", "the run's knowledge base" or "default"
     Calibration calibration;
 };
 RunCalibration calibrate_run(const std::filesystem::path& run_db, const CalibrateOptions& options);
@@ -123,9 +123,9 @@ struct KbStats {
     std::uint64_t observations = 0;  ///< sum of the counts
     std::uint64_t count_min = 0, count_max = 0;
     double count_mean = 0.0, count_median = 0.0;
-    std::size_t count_one = 0;       ///< segments seen once
+    std::size_t count_one = 0;  ///< segments seen once
     std::vector<kb::Source> sources;
-    double bytes_per_segment = 0.0;  ///< in memory (values, record, index)
+    double bytes_per_segment = 0.0;       ///< in memory (values, record, index)
     double file_bytes_per_segment = 0.0;  ///< of the file, 0 for an empty KB
 };
 
@@ -150,11 +150,11 @@ PolicySet parse_policy_set(const std::string& text);
 
 /// What `kb annotate` did.
 struct Annotation {
-    std::string kb_name;                 ///< the KB's name in the run file
-    std::int64_t kb_id = 0;              ///< its id in the run file (policy_segment.kb_id)
-    bool copied = false;                 ///< true if the KB was copied into the run file
+    std::string kb_name;                    ///< the KB's name in the run file
+    std::int64_t kb_id = 0;                 ///< its id in the run file (policy_segment.kb_id)
+    bool copied = false;                    ///< true if the KB was copied into the run file
     std::vector<std::int64_t> individuals;  ///< annotated, in id order
-    std::size_t rows = 0;                ///< policy_segment rows written
+    std::size_t rows = 0;                   ///< policy_segment rows written
 };
 
 /// Replays the `which` policies of `run_db` and writes, for each of their
@@ -166,8 +166,8 @@ struct Annotation {
 /// different KB of that name is refused (DataError). Everything is written
 /// in one transaction, after every replay succeeded. Throws DataError when
 /// the KB's channels differ from the behaviour's or its width exceeds it.
-Annotation annotate_run(const std::filesystem::path& run_db, const std::filesystem::path& kb_db, PolicySet which,
-                        const std::string& kb_name = "", const std::string& as_name = "");
+Annotation annotate_run(const std::filesystem::path& run_db, const std::filesystem::path& kb_db,
+                        PolicySet which, const std::string& kb_name = "", const std::string& as_name = "");
 
 // -------------------------------------------------------------------- shape
 

@@ -1,5 +1,4 @@
 #include <catch2/catch.hpp>
-
 #include <nlohmann/json.hpp>
 
 #include "db/database.hpp"
@@ -64,21 +63,24 @@ void check_rows(const std::vector<Row>& rows, std::size_t& at, std::int64_t id, 
 
 }  // namespace
 
-TEST_CASE("kb annotate all fills policy_segment as KnowledgeBase::lookup on the replayed behaviours", "[kb_cli][annotate]") {
+TEST_CASE("kb annotate all fills policy_segment as KnowledgeBase::lookup on the replayed behaviours",
+          "[kb_cli][annotate]") {
     test::TempDir dir;
     kbtest::make_run(dir / "run.db", /*retain_all=*/true);
     const auto run = dir / "run.db";
     REQUIRE(test::run_cli({"kb", "export", run.string(), "--out", (dir / "kb.db").string()}).exit_code == 0);
-    REQUIRE(test::run_cli({"kb", "randomize", (dir / "kb.db").string(), "--out", (dir / "rand.db").string(), "--seed",
-                           "2"})
+    REQUIRE(test::run_cli({"kb", "randomize", (dir / "kb.db").string(), "--out", (dir / "rand.db").string(),
+                           "--seed", "2"})
                 .exit_code == 0);
 
     // the exported KB is the run's own: it is reused, not copied
-    auto result = test::run_cli({"kb", "annotate", run.string(), "--kb", (dir / "kb.db").string(), "--individuals", "all"});
+    auto result = test::run_cli(
+        {"kb", "annotate", run.string(), "--kb", (dir / "kb.db").string(), "--individuals", "all"});
     REQUIRE(result.exit_code == 0);
     CHECK_THAT(result.out, Contains("already in the run file"));
     // the randomized KB is copied into the run file under its own name
-    result = test::run_cli({"kb", "annotate", run.string(), "--kb", (dir / "rand.db").string(), "--individuals", "all"});
+    result = test::run_cli(
+        {"kb", "annotate", run.string(), "--kb", (dir / "rand.db").string(), "--individuals", "all"});
     REQUIRE(result.exit_code == 0);
     CHECK_THAT(result.out, Contains("copied into the run file"));
 
@@ -98,7 +100,8 @@ TEST_CASE("kb annotate all fills policy_segment as KnowledgeBase::lookup on the 
     REQUIRE(run_kb != 0);
     REQUIRE(rand_kb != 0);
 
-    for (const auto& [file, kb_id] : {std::pair{dir / "kb.db", run_kb}, std::pair{dir / "rand.db", rand_kb}}) {
+    for (const auto& [file, kb_id] :
+         {std::pair{dir / "kb.db", run_kb}, std::pair{dir / "rand.db", rand_kb}}) {
         const auto kb = kbtest::load_kb(file);
         const auto rows = policy_rows(run, kb_id);
         CHECK(rows.size() == ids.size() * (kbtest::kRunSteps / kbtest::kRunWidth));
@@ -107,12 +110,14 @@ TEST_CASE("kb annotate all fills policy_segment as KnowledgeBase::lookup on the 
     }
 
     // annotating again replaces the rows instead of adding to them
-    REQUIRE(test::run_cli({"kb", "annotate", run.string(), "--kb", (dir / "kb.db").string(), "--individuals", "all"})
+    REQUIRE(test::run_cli(
+                {"kb", "annotate", run.string(), "--kb", (dir / "kb.db").string(), "--individuals", "all"})
                 .exit_code == 0);
     CHECK(policy_rows(run, run_kb).size() == ids.size() * (kbtest::kRunSteps / kbtest::kRunWidth));
 }
 
-TEST_CASE("kb annotate front takes the first front of the last population, best the best stored genome", "[kb_cli][annotate]") {
+TEST_CASE("kb annotate front takes the first front of the last population, best the best stored genome",
+          "[kb_cli][annotate]") {
     test::TempDir dir;
     kbtest::make_run(dir / "run.db");
     const auto run = dir / "run.db";
@@ -145,7 +150,8 @@ TEST_CASE("kb annotate front takes the first front of the last population, best 
     }
     REQUIRE(!front.empty());
 
-    REQUIRE(test::run_cli({"kb", "annotate", run.string(), "--kb", (dir / "kb.db").string(), "--individuals", "front"})
+    REQUIRE(test::run_cli(
+                {"kb", "annotate", run.string(), "--kb", (dir / "kb.db").string(), "--individuals", "front"})
                 .exit_code == 0);
     auto connection = db::open_database(run, db::OpenMode::read_only);
     auto select = connection.prepare("SELECT DISTINCT individual_id FROM policy_segment ORDER BY 1");
@@ -154,23 +160,26 @@ TEST_CASE("kb annotate front takes the first front of the last population, best 
     CHECK(annotated == front);
 
     REQUIRE(test::run_cli({"kb", "annotate", run.string(), "--kb", (dir / "kb.db").string()}).exit_code == 0);
-    CHECK(connection.query_int(("SELECT count(*) FROM policy_segment WHERE individual_id = " + std::to_string(best)).c_str()) ==
-          static_cast<std::int64_t>(kbtest::kRunSteps / kbtest::kRunWidth));
+    CHECK(
+        connection.query_int(
+            ("SELECT count(*) FROM policy_segment WHERE individual_id = " + std::to_string(best)).c_str()) ==
+        static_cast<std::int64_t>(kbtest::kRunSteps / kbtest::kRunWidth));
 }
 
-TEST_CASE("shape prints the r_max and matches that KnowledgeBase::lookup gives for the stored policy", "[kb_cli][shape]") {
+TEST_CASE("shape prints the r_max and matches that KnowledgeBase::lookup gives for the stored policy",
+          "[kb_cli][shape]") {
     test::TempDir dir;
     kbtest::make_run(dir / "run.db");
     const auto run = dir / "run.db";
     REQUIRE(test::run_cli({"kb", "export", run.string(), "--out", (dir / "kb.db").string()}).exit_code == 0);
-    REQUIRE(test::run_cli({"kb", "randomize", (dir / "kb.db").string(), "--out", (dir / "rand.db").string(), "--seed",
-                           "5"})
+    REQUIRE(test::run_cli({"kb", "randomize", (dir / "kb.db").string(), "--out", (dir / "rand.db").string(),
+                           "--seed", "5"})
                 .exit_code == 0);
     // the randomized KB gives non-zero averages, so r_max is a real maximum
     for (const char* name : {"kb.db", "rand.db"}) {
         INFO(name);
-        auto result = test::run_cli({"shape", "--kb", (dir / name).string(), "--run", run.string(), "--individual",
-                                     "best", "--json"});
+        auto result = test::run_cli({"shape", "--kb", (dir / name).string(), "--run", run.string(),
+                                     "--individual", "best", "--json"});
         REQUIRE(result.exit_code == 0);
         const auto out = nlohmann::json::parse(result.out);
         exp::Replay best;

@@ -1,12 +1,12 @@
-#include <catch2/catch.hpp>
+#include "kb/calibrate.hpp"
 
+#include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
 
 #include "core/error.hpp"
 #include "db/database.hpp"
 #include "exp/kb_tools.hpp"
 #include "exp/replay.hpp"
-#include "kb/calibrate.hpp"
 #include "kb_cli/fixtures.hpp"
 #include "sim/sensors.hpp"
 #include "support/run_cli.hpp"
@@ -15,7 +15,8 @@
 using namespace stepstone;
 using Catch::Matchers::Contains;
 
-TEST_CASE("calibration of a hand-made behaviour follows the mean distance to the nearest others", "[kb_cli][calibrate]") {
+TEST_CASE("calibration of a hand-made behaviour follows the mean distance to the nearest others",
+          "[kb_cli][calibrate]") {
     // one channel, width 1: segments 0, 1, 3
     const std::vector<float> behaviour{0, 1, 3};
     const std::vector<std::vector<float>> policies{{0, 1, 3}, {0.2f, 10, 10}};
@@ -46,11 +47,13 @@ TEST_CASE("calibration of a hand-made behaviour follows the mean distance to the
     CHECK(exp::parse_deltas("0.5,1.83") == std::vector<double>{0.5, 1.83});
 }
 
-TEST_CASE("kb calibrate on a run uses the replayed best policy and the run's stored policies", "[kb_cli][calibrate]") {
+TEST_CASE("kb calibrate on a run uses the replayed best policy and the run's stored policies",
+          "[kb_cli][calibrate]") {
     test::TempDir dir;
     kbtest::make_run(dir / "run.db");
     const auto run = dir / "run.db";
-    auto result = test::run_cli({"kb", "calibrate", run.string(), "--individual", "best", "--deltas", "0.25,1,4", "--json"});
+    auto result = test::run_cli(
+        {"kb", "calibrate", run.string(), "--individual", "best", "--deltas", "0.25,1,4", "--json"});
     REQUIRE(result.exit_code == 0);
     const auto out = nlohmann::json::parse(result.out);
 
@@ -70,10 +73,12 @@ TEST_CASE("kb calibrate on a run uses the replayed best policy and the run's sto
     {
         auto connection = db::open_database(run, db::OpenMode::read_only);
         auto select = connection.prepare("SELECT individual_id FROM genome ORDER BY individual_id");
-        while (select.step()) behaviours.push_back(exp::replay_behaviour(run, std::to_string(select.column_int(0))));
+        while (select.step())
+            behaviours.push_back(exp::replay_behaviour(run, std::to_string(select.column_int(0))));
     }
     std::vector<kb::Segments> segments;
-    for (const auto& b : behaviours) segments.push_back(kb::segment_behaviour(b, channels, kbtest::kRunWidth));
+    for (const auto& b : behaviours)
+        segments.push_back(kb::segment_behaviour(b, channels, kbtest::kRunWidth));
     kb::KbParams params;
     params.segment_width = kbtest::kRunWidth;
     params.channels = channels;

@@ -40,7 +40,8 @@ TEST_CASE("every kb subcommand and shape show an example in --help", "[kb_cli][h
     }
 }
 
-TEST_CASE("kb commands refuse missing, newer-schema and foreign files with one line and exit 1", "[kb_cli][errors]") {
+TEST_CASE("kb commands refuse missing, newer-schema and foreign files with one line and exit 1",
+          "[kb_cli][errors]") {
     test::TempDir dir;
     test::make_newer_stepstone(dir / "newer.db");
     test::make_foreign_sqlite(dir / "foreign.db");
@@ -50,12 +51,16 @@ TEST_CASE("kb commands refuse missing, newer-schema and foreign files with one l
     const auto out = (dir / "out.db").string();
 
     check_error(test::run_cli({"kb", "stats", (dir / "newer.db").string()}), 1, "newer.db: schema version");
-    check_error(test::run_cli({"kb", "merge", a, (dir / "newer.db").string(), "--out", out}), 1, "is newer than");
+    check_error(test::run_cli({"kb", "merge", a, (dir / "newer.db").string(), "--out", out}), 1,
+                "is newer than");
     check_error(test::run_cli({"kb", "export", (dir / "foreign.db").string(), "--out", out}), 1,
                 "foreign.db: not a stepstone database");
-    check_error(test::run_cli({"kb", "randomize", (dir / "absent.db").string(), "--out", out, "--seed", "1"}), 1,
+    check_error(test::run_cli({"kb", "randomize", (dir / "absent.db").string(), "--out", out, "--seed", "1"}),
+                1, "absent.db: no such file");
+    check_error(test::run_cli({"shape", "--kb", a, "--run", (dir / "absent.db").string()}), 1,
                 "absent.db: no such file");
-    check_error(test::run_cli({"shape", "--kb", a, "--run", (dir / "absent.db").string()}), 1, "absent.db: no such file");
+    check_error(test::run_cli({"kb", "export", a, "--name", "run", "--out", out}), 1,
+                "a.db: no knowledge base named \"run\"");
     // a KB file is not a run file
     check_error(test::run_cli({"kb", "calibrate", a}), 1, "a.db");
     CHECK(kbtest::files_in(dir.path()) == before);
@@ -77,36 +82,43 @@ TEST_CASE("a KB file with a NaN value or reward is refused with one line", "[kb_
     }
     const auto out = (dir / "out.db").string();
     check_error(test::run_cli({"kb", "stats", (dir / "nan.db").string()}), 1, "nan.db: knowledge base \"a\"");
-    check_error(test::run_cli({"kb", "randomize", (dir / "nan.db").string(), "--out", out, "--seed", "1"}), 1, "nan.db");
-    check_error(test::run_cli({"kb", "merge", (dir / "inf.db").string(), (dir / "nan.db").string(), "--out", out}), 1,
-                "inf.db: knowledge base \"b\" segment 0 is malformed");
+    check_error(test::run_cli({"kb", "randomize", (dir / "nan.db").string(), "--out", out, "--seed", "1"}), 1,
+                "nan.db");
+    check_error(
+        test::run_cli({"kb", "merge", (dir / "inf.db").string(), (dir / "nan.db").string(), "--out", out}), 1,
+        "inf.db: knowledge base \"b\" segment 0 is malformed");
     CHECK_FALSE(std::filesystem::exists(out));
 }
 
-TEST_CASE("annotate and shape refuse a KB of other channels and leave the run file unchanged", "[kb_cli][errors]") {
+TEST_CASE("annotate and shape refuse a KB of other channels and leave the run file unchanged",
+          "[kb_cli][errors]") {
     test::TempDir dir;
     kbtest::make_run(dir / "run.db");
     kbtest::write_kb(dir / "two.db", "two", kbtest::point_kb("run-a", {{0, 0, 1, 0}}));  // 2 channels
     const std::string run_before = test::read_file(dir / "run.db");
     const auto before = kbtest::files_in(dir.path());
 
-    check_error(test::run_cli({"kb", "annotate", (dir / "run.db").string(), "--kb", (dir / "two.db").string()}), 1,
-                "two.db: knowledge base \"two\" has 2 channels, the behaviours of run.db have 15");
-    check_error(test::run_cli({"shape", "--kb", (dir / "two.db").string(), "--run", (dir / "run.db").string()}), 1,
-                "has 2 channels");
+    check_error(
+        test::run_cli({"kb", "annotate", (dir / "run.db").string(), "--kb", (dir / "two.db").string()}), 1,
+        "two.db: knowledge base \"two\" has 2 channels, the behaviours of run.db have 15");
+    check_error(
+        test::run_cli({"shape", "--kb", (dir / "two.db").string(), "--run", (dir / "run.db").string()}), 1,
+        "has 2 channels");
     CHECK(test::read_file(dir / "run.db") == run_before);
     CHECK(kbtest::files_in(dir.path()) == before);
 
     // a different KB under a name the run file already uses: refused, unless copied under another name
-    REQUIRE(test::run_cli({"kb", "export", (dir / "run.db").string(), "--out", (dir / "kb.db").string()}).exit_code == 0);
-    REQUIRE(test::run_cli({"kb", "randomize", (dir / "kb.db").string(), "--out", (dir / "other.db").string(), "--seed",
-                           "1", "--name", "run"})
+    REQUIRE(test::run_cli({"kb", "export", (dir / "run.db").string(), "--out", (dir / "kb.db").string()})
                 .exit_code == 0);
-    check_error(test::run_cli({"kb", "annotate", (dir / "run.db").string(), "--kb", (dir / "other.db").string()}), 1,
-                "run.db: already holds a different knowledge base named \"run\"; choose another name with --as");
+    REQUIRE(test::run_cli({"kb", "randomize", (dir / "kb.db").string(), "--out", (dir / "other.db").string(),
+                           "--seed", "1", "--name", "run"})
+                .exit_code == 0);
+    check_error(
+        test::run_cli({"kb", "annotate", (dir / "run.db").string(), "--kb", (dir / "other.db").string()}), 1,
+        "run.db: already holds a different knowledge base named \"run\"; choose another name with --as");
     CHECK(test::read_file(dir / "run.db") == run_before);
-    auto renamed = test::run_cli(
-        {"kb", "annotate", (dir / "run.db").string(), "--kb", (dir / "other.db").string(), "--as", "control"});
+    auto renamed = test::run_cli({"kb", "annotate", (dir / "run.db").string(), "--kb",
+                                  (dir / "other.db").string(), "--as", "control"});
     CHECK(renamed.exit_code == 0);
     CHECK_THAT(renamed.out, Contains("\"control\", copied into the run file"));
 }
@@ -137,11 +149,13 @@ TEST_CASE("bad flag values are usage errors with exit 2", "[kb_cli][errors]") {
     check_error(test::run_cli({"kb", "merge", a, "--out", (dir / "m.db").string()}), 2, "at least two");
     check_error(test::run_cli({"kb", "calibrate", a, "--deltas", "1,-2"}), 2, "--deltas");
     check_error(test::run_cli({"kb", "annotate", a, "--kb", a, "--individuals", "some"}), 2, "--individuals");
-    check_error(test::run_cli({"kb", "randomize", a, "--out", (dir / "r.db").string(), "--seed", "x"}), 2, "--seed");
+    check_error(test::run_cli({"kb", "randomize", a, "--out", (dir / "r.db").string(), "--seed", "x"}), 2,
+                "--seed");
     CHECK(kbtest::files_in(dir.path()) == std::vector<std::string>{"a.db"});
     kbtest::make_run(dir / "run.db");
-    check_error(test::run_cli({"shape", "--kb", a, "--run", (dir / "run.db").string(), "--individual", "first"}), 2,
-                "--individual");
+    check_error(
+        test::run_cli({"shape", "--kb", a, "--run", (dir / "run.db").string(), "--individual", "first"}), 2,
+        "--individual");
     check_error(test::run_cli({"kb", "calibrate", (dir / "run.db").string(), "--segment-width", "0"}), 2,
                 "--segment-width");
 }

@@ -21,7 +21,8 @@ std::vector<kbtest::Policy> policies_b() { return {{0.1f, 0, 0.5, 4}, {5, 5, 1.0
 TEST_CASE("kb export writes the run's knowledge base unchanged under the same name", "[kb_cli][export]") {
     test::TempDir dir;
     kbtest::make_run(dir / "run.db");
-    auto result = test::run_cli({"kb", "export", (dir / "run.db").string(), "--out", (dir / "kb.db").string()});
+    auto result =
+        test::run_cli({"kb", "export", (dir / "run.db").string(), "--out", (dir / "kb.db").string()});
     REQUIRE(result.exit_code == 0);
     CHECK_THAT(result.out, Contains("knowledge base \"run\""));
 
@@ -50,7 +51,8 @@ TEST_CASE("kb export writes the run's knowledge base unchanged under the same na
     CHECK(exported.kb.sources()[0].policies == from_run.kb.sources()[0].policies);
 }
 
-TEST_CASE("kb merge adds counts and cumulated rewards of segments within delta and keeps provenance", "[kb_cli][merge]") {
+TEST_CASE("kb merge adds counts and cumulated rewards of segments within delta and keeps provenance",
+          "[kb_cli][merge]") {
     test::TempDir dir;
     kbtest::write_kb(dir / "a.db", "a", kbtest::point_kb("run-a", policies_a()));
     kbtest::write_kb(dir / "b.db", "b", kbtest::point_kb("run-b", policies_b()));
@@ -112,7 +114,8 @@ TEST_CASE("kb merge is deterministic in the given order", "[kb_cli][merge][deter
     CHECK(kbtest::segment_rows(dir / "ba.db") != kbtest::segment_rows(dir / "ab1.db"));
 }
 
-TEST_CASE("kb merge refuses KBs of another delta or channel count, naming both files, and writes nothing", "[kb_cli][merge][errors]") {
+TEST_CASE("kb merge refuses KBs of another delta or channel count, naming both files, and writes nothing",
+          "[kb_cli][merge][errors]") {
     test::TempDir dir;
     kbtest::write_kb(dir / "a.db", "a", kbtest::point_kb("run-a", policies_a()));
     kbtest::write_kb(dir / "wide.db", "w", kbtest::point_kb("run-w", policies_b(), 0.7));
@@ -123,10 +126,11 @@ TEST_CASE("kb merge refuses KBs of another delta or channel count, naming both f
                                  (dir / "m.db").string()});
     CHECK(result.exit_code == 1);
     REQUIRE(result.err_lines().size() == 1);
-    CHECK_THAT(result.err, Contains("a.db") && Contains("wide.db") && Contains("delta is 0.7") && Contains("0.5"));
+    CHECK_THAT(result.err,
+               Contains("a.db") && Contains("wide.db") && Contains("delta is 0.7") && Contains("0.5"));
 
-    result = test::run_cli({"kb", "merge", (dir / "a.db").string(), (dir / "a.db").string(), (dir / "three.db").string(),
-                            "--out", (dir / "m.db").string()});
+    result = test::run_cli({"kb", "merge", (dir / "a.db").string(), (dir / "a.db").string(),
+                            (dir / "three.db").string(), "--out", (dir / "m.db").string()});
     CHECK(result.exit_code == 1);
     REQUIRE(result.err_lines().size() == 1);
     CHECK_THAT(result.err, Contains("three.db") && Contains("channels is 3") && Contains("2 in a.db"));

@@ -18,8 +18,8 @@ void make_run(const std::filesystem::path& path, bool retain_all) {
   "kb": {"segment_width": 10, "delta": 1.0, "period": 1},
   "seed": 3
 })");
-    std::vector<std::string> args{"evolve", "--config", config.string(), "--db", path.string(), "--threads", "1",
-                                  "--quiet"};
+    std::vector<std::string> args{"evolve",    "--config", config.string(), "--db", path.string(),
+                                  "--threads", "1",        "--quiet"};
     if (retain_all) {
         args.push_back("--retain");
         args.push_back("all");
@@ -87,8 +87,10 @@ kb::KnowledgeBase histogram_kb() {
 std::vector<std::string> segment_rows(const std::filesystem::path& path) {
     auto connection = db::open_database(path, db::OpenMode::read_only);
     auto select = connection.prepare(
-        "SELECT id || '|' || cum_reward || '|' || count || '|' || first_source || '|' || first_generation || '|' || "
-        "last_source || '|' || last_generation || '|' || hex(segment_values) FROM kb_segment ORDER BY kb_id, id");
+        "SELECT id || '|' || cum_reward || '|' || count || '|' || first_source || '|' || first_generation || "
+        "'|' || "
+        "last_source || '|' || last_generation || '|' || hex(segment_values) FROM kb_segment ORDER BY kb_id, "
+        "id");
     std::vector<std::string> rows;
     while (select.step()) rows.push_back(select.column_text(0));
     return rows;
@@ -99,7 +101,8 @@ std::vector<std::string> files_in(const std::filesystem::path& dir) {
     for (const auto& entry : std::filesystem::directory_iterator(dir)) {
         const std::string name = entry.path().filename().string();
         const auto ends_with = [&](const std::string& suffix) {
-            return name.size() > suffix.size() && name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0;
+            return name.size() > suffix.size() &&
+                   name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0;
         };
         if (!ends_with("-wal") && !ends_with("-shm")) names.push_back(name);
     }

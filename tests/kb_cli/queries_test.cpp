@@ -1,5 +1,4 @@
 #include <catch2/catch.hpp>
-
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -90,12 +89,14 @@ struct AnnotatedRun {
 
 }  // namespace
 
-TEST_CASE("salient_segments.sql lists the highest averages among segments seen often enough", "[kb_cli][queries]") {
+TEST_CASE("salient_segments.sql lists the highest averages among segments seen often enough",
+          "[kb_cli][queries]") {
     test::TempDir dir;
     kbtest::write_kb(dir / "h.db", "hand", kbtest::histogram_kb());
     auto connection = db::open_database(dir / "h.db", db::OpenMode::read_only);
-    const auto rows = run_file(connection, "salient_segments.sql",
-                               {{"kb_name", std::string("hand")}, {"min_count", std::int64_t{2}}, {"limit", std::int64_t{3}}});
+    const auto rows = run_file(
+        connection, "salient_segments.sql",
+        {{"kb_name", std::string("hand")}, {"min_count", std::int64_t{2}}, {"limit", std::int64_t{3}}});
     // by hand, counts >= 2: id 1 (0, 2), id 2 (0, 3), id 4 (0.55, 4), id 7 (1.0, 2);
     // best first: 7, 4, then among the zeros the higher count: 2
     REQUIRE(rows.size() == 3);
@@ -110,12 +111,15 @@ TEST_CASE("salient_segments.sql lists the highest averages among segments seen o
     CHECK(rows[2][0].number == 2);
     CHECK(rows[2][2].number == 3);
     // with min_count 1 the maximum still comes first, and every segment is there
-    CHECK(run_file(connection, "salient_segments.sql",
-                   {{"kb_name", std::string("hand")}, {"min_count", std::int64_t{1}}, {"limit", std::int64_t{100}}})
-              .size() == 8);
+    CHECK(
+        run_file(
+            connection, "salient_segments.sql",
+            {{"kb_name", std::string("hand")}, {"min_count", std::int64_t{1}}, {"limit", std::int64_t{100}}})
+            .size() == 8);
 }
 
-TEST_CASE("kb_growth.sql counts the segments each generation inserted and the running size", "[kb_cli][queries]") {
+TEST_CASE("kb_growth.sql counts the segments each generation inserted and the running size",
+          "[kb_cli][queries]") {
     test::TempDir dir;
     kbtest::write_kb(dir / "h.db", "hand", kbtest::histogram_kb());
     auto connection = db::open_database(dir / "h.db", db::OpenMode::read_only);
@@ -142,7 +146,8 @@ TEST_CASE("kb_growth.sql counts the segments each generation inserted and the ru
     CHECK(growth.front()[1].number == 0);  // generation 0 inserts first
 }
 
-TEST_CASE("kb_provenance.sql lists each source with the segments it inserted and last credited", "[kb_cli][queries]") {
+TEST_CASE("kb_provenance.sql lists each source with the segments it inserted and last credited",
+          "[kb_cli][queries]") {
     test::TempDir dir;
     kbtest::write_kb(dir / "h.db", "hand", kbtest::histogram_kb(), 11);
     auto connection = db::open_database(dir / "h.db", db::OpenMode::read_only);
@@ -161,7 +166,8 @@ TEST_CASE("kb_provenance.sql lists each source with the segments it inserted and
     CHECK(rows[1][7].number == 11);  // randomized_seed
 }
 
-TEST_CASE("policy_saliency.sql and salient_positions.sql give the annotated policy's saliency along time", "[kb_cli][queries]") {
+TEST_CASE("policy_saliency.sql and salient_positions.sql give the annotated policy's saliency along time",
+          "[kb_cli][queries]") {
     AnnotatedRun annotated;
     const auto lookup = annotated.lookup();
     auto connection = db::open_database(annotated.run, db::OpenMode::read_only);
@@ -200,8 +206,8 @@ TEST_CASE("policy_saliency.sql and salient_positions.sql give the annotated poli
 TEST_CASE("salient_positions.sql joins with the replay CSV as its header describes", "[kb_cli][queries]") {
     AnnotatedRun annotated;
     const auto csv = annotated.dir / "steps.csv";
-    REQUIRE(test::run_cli({"replay", annotated.run.string(), "--individual", std::to_string(annotated.best), "--csv",
-                           csv.string()})
+    REQUIRE(test::run_cli({"replay", annotated.run.string(), "--individual", std::to_string(annotated.best),
+                           "--csv", csv.string()})
                 .exit_code == 0);
     // the CSV's start, step, x, y; the mean x per 50-step window of start 0, by hand
     std::ifstream in(csv);
@@ -236,15 +242,16 @@ TEST_CASE("salient_positions.sql joins with the replay CSV as its header describ
     }
     std::string query = query_text("salient_positions.sql");
     query.erase(query.rfind(';'));
-    const auto rows = run_query(connection,
-                                "WITH w AS (" + query +
-                                    "\n)\nSELECT w.window_index, avg(p.x) AS x, avg(p.y) AS y, w.average_saliency\n"
-                                    "FROM w\nJOIN temp.replay_step AS p\n"
-                                    "  ON p.start = 0 AND p.step >= w.step_start AND p.step < w.step_end\n"
-                                    "GROUP BY w.window_index ORDER BY w.window_index",
-                                {{"kb_name", std::string("run-rand")},
-                                 {"individual_id", annotated.best},
-                                 {"window", std::int64_t{50}}});
+    const auto rows =
+        run_query(connection,
+                  "WITH w AS (" + query +
+                      "\n)\nSELECT w.window_index, avg(p.x) AS x, avg(p.y) AS y, w.average_saliency\n"
+                      "FROM w\nJOIN temp.replay_step AS p\n"
+                      "  ON p.start = 0 AND p.step >= w.step_start AND p.step < w.step_end\n"
+                      "GROUP BY w.window_index ORDER BY w.window_index",
+                  {{"kb_name", std::string("run-rand")},
+                   {"individual_id", annotated.best},
+                   {"window", std::int64_t{50}}});
     REQUIRE(rows.size() == mean_x.size());
     for (const auto& row : rows) {
         const auto& [sum, n] = mean_x.at(static_cast<std::int64_t>(row[0].number));

@@ -1,5 +1,4 @@
 #include <catch2/catch.hpp>
-
 #include <nlohmann/json.hpp>
 
 #include "db/database.hpp"
@@ -11,16 +10,19 @@
 using namespace stepstone;
 using Catch::Matchers::Contains;
 
-
-TEST_CASE("kb randomize keeps the segments, draws averages in [0, 1) reproducibly and records the seed", "[kb_cli][randomize]") {
+TEST_CASE("kb randomize keeps the segments, draws averages in [0, 1) reproducibly and records the seed",
+          "[kb_cli][randomize]") {
     test::TempDir dir;
     kbtest::make_run(dir / "run.db");
     const auto run = (dir / "run.db").string();
     REQUIRE(test::run_cli({"kb", "export", run, "--out", (dir / "kb.db").string()}).exit_code == 0);
     const auto kb_file = (dir / "kb.db").string();
-    REQUIRE(test::run_cli({"kb", "randomize", kb_file, "--out", (dir / "r1.db").string(), "--seed", "7"}).exit_code == 0);
-    REQUIRE(test::run_cli({"kb", "randomize", kb_file, "--out", (dir / "r2.db").string(), "--seed", "7"}).exit_code == 0);
-    REQUIRE(test::run_cli({"kb", "randomize", kb_file, "--out", (dir / "r8.db").string(), "--seed", "8"}).exit_code == 0);
+    REQUIRE(test::run_cli({"kb", "randomize", kb_file, "--out", (dir / "r1.db").string(), "--seed", "7"})
+                .exit_code == 0);
+    REQUIRE(test::run_cli({"kb", "randomize", kb_file, "--out", (dir / "r2.db").string(), "--seed", "7"})
+                .exit_code == 0);
+    REQUIRE(test::run_cli({"kb", "randomize", kb_file, "--out", (dir / "r8.db").string(), "--seed", "8"})
+                .exit_code == 0);
 
     const auto original = kbtest::load_kb(dir / "kb.db");
     auto connection = db::open_database(dir / "r1.db", db::OpenMode::read_only);
