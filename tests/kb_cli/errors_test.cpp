@@ -66,7 +66,7 @@ TEST_CASE("kb commands refuse missing, newer-schema and foreign files with one l
     CHECK(kbtest::files_in(dir.path()) == before);
 }
 
-TEST_CASE("a KB file with a NaN value or reward is refused with one line", "[kb_cli][errors]") {
+TEST_CASE("a KB file with a NaN value or an infinite reward is refused with one line", "[kb_cli][errors]") {
     test::TempDir dir;
     kbtest::write_kb(dir / "nan.db", "a", kbtest::point_kb("run-a", {{0, 0, 1, 0}, {3, 3, 1, 0}}));
     {

@@ -10,7 +10,7 @@
 using namespace stepstone;
 using Catch::Matchers::Contains;
 
-TEST_CASE("kb randomize keeps the segments, draws averages in [0, 1) reproducibly and records the seed",
+TEST_CASE("kb randomize keeps the segments, draws averages below 1 reproducibly and records the seed",
           "[kb_cli][randomize]") {
     test::TempDir dir;
     kbtest::make_run(dir / "run.db");
