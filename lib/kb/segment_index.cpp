@@ -5,12 +5,13 @@
 #include <limits>
 #include <utility>
 
-#include <nanoflann.hpp>
-
 #include "core/assert.hpp"
 #include "core/error.hpp"
 #include "core/text.hpp"
+#include "kb/block_means.hpp"
+#include "kb/bound_tree.hpp"
 #include "kb/distance.hpp"
+#include "kb/projection.hpp"
 
 namespace stepstone::kb {
 
@@ -19,57 +20,31 @@ namespace {
 // appended segments scanned linearly before they become a tree
 constexpr std::size_t kBufferSize = 64;
 constexpr std::size_t kLeafSize = 16;
-// relative safety pad on lower bounds, far above their rounding (~1e-15)
-constexpr double kPadRelative = 1e-9;
+// row blocks of the finer bound that filters the tree's candidates, and
+// dimension of the tree's points (its leading principal directions)
+constexpr std::size_t kFilterBlocks = 5;
+constexpr std::size_t kTreeDim = 12;
+// the principal directions are fitted once the index holds this many segments
+constexpr std::size_t kMinPrincipal = 1024;
+// relative safety pad on lower bounds: rounding a block-means point (or its
+// projection) to float moves it by at most 2^-24 x max|value| x sqrt(dim);
+// a stored tree point is rounded twice and the query's float point once, so
+// 2^-21 leaves a factor 8/3 (the double arithmetic adds ~1e-13)
+constexpr double kPadRelative = 0x1p-21;
+// a float sum of n squares is within a relative (n + 2) x 2^-24 of the exact
+// one; bounds are compared with twice that for the longest sum, plus 2^-20
+constexpr double kSumSlackPerTerm = 0x1p-23;
+// the float points and sums are used while they cannot overflow
+constexpr double kMaxCoordinate = 1e15;
+constexpr std::size_t kFilterMaxDim = 512;
 // brute force takes over when recent queries see more than this fraction of
 // the KB as candidates, and hands back below the second (hysteresis)
 constexpr double kBruteAbove = 0.3;
 constexpr double kTreeBelow = 0.15;
 constexpr double kFractionDecay = 0.98;
 
-// the points of one contiguous id range, as nanoflann's dataset interface
-struct PointRange {
-    const std::vector<double>* points = nullptr;
-    std::size_t begin = 0;
-    std::size_t count = 0;
-    std::size_t dim = 0;
-
-    std::size_t kdtree_get_point_count() const { return count; }
-    double kdtree_get_pt(std::size_t i, std::size_t d) const { return (*points)[(begin + i) * dim + d]; }
-    template <class Box>
-    bool kdtree_get_bbox(Box&) const {
-        return false;
-    }
-};
-
-using Tree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PointRange, double, std::size_t>,
-                                                 PointRange, -1, std::size_t>;
-
-// a candidate: squared lower bound on its distance, and its id
+// a candidate: a key that grows with its lower bound, and its id
 using Candidate = std::pair<double, std::size_t>;
-
-// nanoflann result set collecting every point below a squared radius, with
-// ids shifted to global ids
-struct Collector {
-    double radius_sq;
-    std::size_t offset;
-    std::vector<Candidate>* out;
-
-    std::size_t size() const { return out->size(); }
-    bool full() const { return true; }
-    bool addPoint(double dist_sq, std::size_t index) {
-        if (dist_sq < radius_sq) out->emplace_back(dist_sq, offset + index);
-        return true;
-    }
-    double worstDist() const { return radius_sq; }
-};
-
-// squared lower bound of a computed distance from a computed bound: the pad
-// absorbs the rounding of both
-double safe_lower_sq(double bound_sq, double pad) {
-    const double b = std::sqrt(bound_sq) - pad;
-    return b > 0 ? b * b : 0.0;
-}
 
 // the best answer so far: smallest squared distance, ties to the lowest id
 struct Best {
@@ -83,74 +58,6 @@ struct Best {
         }
     }
 };
-
-}  // namespace
-
-struct SegmentIndex::Level {
-    PointRange range;
-    std::unique_ptr<Tree> tree;
-
-    Level(const std::vector<double>* points, std::size_t begin, std::size_t end, std::size_t channels)
-        : range{points, begin, end - begin, channels},
-          tree(std::make_unique<Tree>(channels, range, nanoflann::KDTreeSingleIndexAdaptorParams(kLeafSize))) {}
-
-    std::size_t begin() const { return range.begin; }
-    std::size_t end() const { return range.begin + range.count; }
-};
-
-// a query's lower-bound point and the pad its magnitude requires
-struct SegmentIndex::Search {
-    std::vector<double> point;
-    double pad = 0.0;
-};
-
-SegmentIndex::SegmentIndex(std::size_t width, std::size_t channels)
-    : width_(width), channels_(channels), points_(std::make_unique<std::vector<double>>()) {
-    if (width == 0) throw ConfigError("segment_width must be >= 1, got 0");
-    if (channels == 0) throw ConfigError("channels must be >= 1, got 0");
-}
-
-SegmentIndex::~SegmentIndex() = default;
-SegmentIndex::SegmentIndex(SegmentIndex&&) noexcept = default;
-SegmentIndex& SegmentIndex::operator=(SegmentIndex&&) noexcept = default;
-
-namespace {
-
-// the channel means scaled by sqrt(width), written to `out`; returns the
-// largest absolute value of the segment
-double lower_bound_point(const float* segment, std::size_t width, std::size_t channels, double* out) {
-    double max_abs = 0.0;
-    for (std::size_t c = 0; c < channels; ++c) out[c] = 0.0;
-    for (std::size_t t = 0; t < width; ++t) {
-        const float* row = segment + t * channels;
-        for (std::size_t c = 0; c < channels; ++c) {
-            const double v = row[c];
-            out[c] += v;
-            max_abs = std::max(max_abs, std::fabs(v));
-        }
-    }
-    const double scale = 1.0 / std::sqrt(static_cast<double>(width));
-    // sum / w * sqrt(w) = sum / sqrt(w)
-    for (std::size_t c = 0; c < channels; ++c) out[c] *= scale;
-    return max_abs;
-}
-
-// squared distance of lower-bound points; four partial sums let it
-// vectorise, and the pad covers any rounding difference
-double squared_gap(const double* a, const double* b, std::size_t n) {
-    double s[4] = {};
-    std::size_t k = 0;
-    for (; k + 4 <= n; k += 4)
-        for (std::size_t j = 0; j < 4; ++j) {
-            const double d = a[k + j] - b[k + j];
-            s[j] += d * d;
-        }
-    for (std::size_t j = 0; k < n; ++k, ++j) {
-        const double d = a[k] - b[k];
-        s[j] += d * d;
-    }
-    return (s[0] + s[1]) + (s[2] + s[3]);
-}
 
 // values covered by the single-precision prefilter of the brute-force path
 constexpr std::size_t kPrefilterValues = 32;
@@ -178,16 +85,93 @@ bool prefix_exceeds(float prefix, double bound) {
 
 }  // namespace
 
+struct SegmentIndex::Level {
+    BoundTree tree;
+    std::size_t begin() const { return tree.begin(); }
+    std::size_t end() const { return tree.end(); }
+    std::size_t count() const { return tree.size(); }
+};
+
+// a query's lower-bound points and the pads their magnitude requires
+struct SegmentIndex::Search {
+    std::vector<double> point;        // tree point, padded to tree_stride()
+    std::vector<float> point_f;       // the same in float
+    std::vector<float> filter_point;  // empty when the filter is off for this query
+    double max_abs = 0.0;  // largest |value| of the query and the indexed segments
+    double pad = 0.0;
+    double slack = 0.0;    // relative slack for float sums
+
+    // largest key (tree bound or filter sum) a segment at squared distance
+    // <= bound can have
+    double key_limit(double bound) const {
+        const double root = std::sqrt(bound);
+        return (1.0 + slack) * (root + pad) * (root + pad) + 1e-30;
+    }
+};
+
+SegmentIndex::SegmentIndex(std::size_t width, std::size_t channels) : width_(width), channels_(channels) {
+    if (width == 0) throw ConfigError("segment_width must be >= 1, got 0");
+    if (channels == 0) throw ConfigError("channels must be >= 1, got 0");
+    fine_ = std::make_unique<BlockMeans>(width_, channels_, kFilterBlocks);
+    projection_ = std::make_unique<Projection>(Projection::channel_means(width_, channels_, fine_->blocks()));
+    filter_on_ = fine_->dim() < dim() && fine_->dim() <= kFilterMaxDim;
+}
+
+SegmentIndex::~SegmentIndex() = default;
+SegmentIndex::SegmentIndex(SegmentIndex&&) noexcept = default;
+SegmentIndex& SegmentIndex::operator=(SegmentIndex&&) noexcept = default;
+
+std::size_t SegmentIndex::tree_stride() const { return (projection_->out_dim() + 7) / 8 * 8; }
+std::size_t SegmentIndex::filter_dim() const { return fine_->dim(); }
+
+void SegmentIndex::project(std::size_t id) {
+    const std::size_t stride = tree_stride();
+    scratch_.assign(stride, 0.0);
+    projection_->apply(filter_points_.data() + id * filter_dim(), scratch_.data());
+    for (std::size_t d = 0; d < stride; ++d) tree_points_[id * stride + d] = static_cast<float>(scratch_[d]);
+}
+
 void SegmentIndex::add_point(const float* segment) {
-    std::vector<double>& points = *points_;
-    points.resize(points.size() + channels_);
-    const double max_abs = lower_bound_point(segment, width_, channels_, points.data() + size_ * channels_);
+    scratch_.resize(filter_dim());
+    const double max_abs = fine_->point(segment, scratch_.data());
     max_abs_ = std::max(max_abs_, max_abs);
+    // beyond this magnitude the float points could overflow: brute force only
+    if (max_abs_ * std::sqrt(static_cast<double>(width_)) >= kMaxCoordinate) huge_ = true;
+    for (const double v : scratch_) filter_points_.push_back(static_cast<float>(v));
+    tree_points_.resize(tree_points_.size() + tree_stride());
     ++size_;
+}
+
+void SegmentIndex::choose_projection() {
+    if (size_ >= kMinPrincipal && !huge_) {
+        const std::size_t f_dim = filter_dim();
+        *projection_ = Projection::principal(filter_points_.data(), size_, f_dim, std::min(kTreeDim, f_dim),
+                                             Projection::channel_means(width_, channels_, fine_->blocks()));
+        principal_size_ = size_;
+    }
+    tree_points_.assign(size_ * tree_stride(), 0.0f);
+    for (std::size_t id = 0; id < size_; ++id) project(id);
+}
+
+SegmentIndex::Search SegmentIndex::prepare(const float* query) const {
+    Search search;
+    std::vector<double> fine(filter_dim());
+    const double q_abs = fine_->point(query, fine.data());
+    const double max_abs = std::max(max_abs_, q_abs);
+    search.max_abs = max_abs;
+    search.point.assign(tree_stride(), 0.0);
+    projection_->apply(fine.data(), search.point.data());
+    search.point_f.assign(search.point.begin(), search.point.end());
+    search.pad = kPadRelative * (1.0 + max_abs) * std::sqrt(static_cast<double>(dim()));
+    const std::size_t terms = std::max(tree_stride(), filter_dim()) + 8;
+    search.slack = kSumSlackPerTerm * static_cast<double>(terms) + 0x1p-20;
+    if (filter_on_) search.filter_point.assign(fine.begin(), fine.end());
+    return search;
 }
 
 void SegmentIndex::append(const float* segment) {
     add_point(segment);
+    project(size_ - 1);
     grow_levels();
 }
 
@@ -195,13 +179,19 @@ void SegmentIndex::assign(std::span<const float> values) {
     STEPSTONE_ASSERT(values.size() % dim() == 0);
     const std::size_t count = values.size() / dim();
     levels_.clear();
-    points_->clear();
-    points_->reserve(count * channels_);
+    *projection_ = Projection::channel_means(width_, channels_, fine_->blocks());
+    principal_size_ = 0;
+    tree_points_.clear();
+    tree_points_.reserve(count * tree_stride());
+    filter_points_.clear();
+    filter_points_.reserve(count * filter_dim());
     size_ = 0;
     max_abs_ = 0.0;
+    huge_ = false;
     for (std::size_t i = 0; i < count; ++i) add_point(values.data() + i * dim());
+    choose_projection();
     if (count > 0) {
-        levels_.push_back(std::make_unique<Level>(points_.get(), 0, count, channels_));
+        levels_.push_back(std::make_unique<Level>(Level{BoundTree(tree_points_.data(), tree_stride(), projection_->out_dim(), 0, count, kLeafSize)}));
         ++stats_.rebuilds;
         stats_.rebuilt_points += count;
     }
@@ -213,19 +203,23 @@ void SegmentIndex::grow_levels() {
     // the buffer becomes a level; absorb the previous levels while the new
     // one is at least half their size, then build a single tree
     std::size_t begin = indexed;
-    while (!levels_.empty() && 2 * (size_ - begin) >= levels_.back()->range.count) {
+    while (!levels_.empty() && 2 * (size_ - begin) >= levels_.back()->count()) {
         begin = levels_.back()->begin();
         levels_.pop_back();
     }
-    levels_.push_back(std::make_unique<Level>(points_.get(), begin, size_, channels_));
+    // a rebuild of everything may first fit the projection to the data
+    if (begin == 0 && size_ >= kMinPrincipal && size_ >= 2 * principal_size_) choose_projection();
+    levels_.push_back(std::make_unique<Level>(Level{BoundTree(tree_points_.data(), tree_stride(), projection_->out_dim(), begin, size_, kLeafSize)}));
     ++stats_.rebuilds;
     stats_.rebuilt_points += size_ - begin;
 }
 
 double SegmentIndex::bytes_per_segment() const {
-    // lower-bound point, nanoflann's index permutation, about two nodes per leaf
-    constexpr double kNodeBytes = 48.0;
-    return static_cast<double>(channels_ * sizeof(double) + sizeof(std::size_t)) + 2.0 * kNodeBytes / kLeafSize;
+    // filter and tree points, plus each level's copy of its points, ids and nodes
+    double bytes = static_cast<double>(tree_stride() * sizeof(float) + (filter_on_ ? filter_dim() * sizeof(float) : 0));
+    for (const auto& level : levels_)
+        bytes += level->tree.bytes_per_point() * static_cast<double>(level->count()) / static_cast<double>(size_);
+    return bytes;
 }
 
 std::optional<Neighbour> SegmentIndex::search_within(std::span<const float> values, const float* query,
@@ -233,24 +227,22 @@ std::optional<Neighbour> SegmentIndex::search_within(std::span<const float> valu
                                                      std::size_t* candidates) const {
     STEPSTONE_ASSERT(values.size() >= size_ * dim());
     const std::size_t n_dim = dim();
-    std::vector<double> q(channels_);
-    const double q_abs = lower_bound_point(query, width_, channels_, q.data());
-    const double pad = kPadRelative * (1.0 + std::max(max_abs_, q_abs)) * std::sqrt(static_cast<double>(n_dim));
+    const std::size_t stride = tree_stride();
+    const Search q = prepare(query);
     const double radius_sq = radius * radius;
-    const double search_sq = (radius + pad) * (radius + pad);
-    const double* points = points_->data();
+    const double search_limit = q.key_limit(radius_sq);
     Best best;
 
-    if (brute) {
+    if (brute || huge_) {
         // id order, so a later segment at an equal distance never wins; a
         // float sum over the first values rejects most segments cheaply, and
         // lower bounds are counted on a sample of queries only (to notice
         // when pruning works again)
-        const bool prefilter = std::max(max_abs_, q_abs) < kPrefilterMaxAbs && n_dim > kPrefilterValues;
-        const bool count = candidates != nullptr && stats_.queries % 16 == 0;
+        const bool prefilter = q.max_abs < kPrefilterMaxAbs && n_dim > kPrefilterValues;
+        const bool count = candidates != nullptr && stats_.queries % 16 == 0 && !huge_;
         std::size_t seen = 0;
         for (std::size_t id = 0; id < size_; ++id) {
-            if (count && squared_gap(q.data(), points + id * channels_, channels_) < search_sq) ++seen;
+            if (count && squared_gap(q.point_f.data(), tree_points_.data() + id * stride, stride) <= search_limit) ++seen;
             const double bound = best.found ? best.n.squared_distance : radius_sq;
             const float* s = values.data() + id * n_dim;
             if (prefilter && prefix_exceeds(prefix_gap(query, s), bound)) continue;
@@ -259,28 +251,51 @@ std::optional<Neighbour> SegmentIndex::search_within(std::span<const float> valu
         }
         if (candidates) *candidates = count ? seen : static_cast<std::size_t>(candidate_fraction_ * static_cast<double>(size_));
     } else {
+        // an upper bound first: the segment each tree's leaf holds closest to
+        // the query in the tree's space is often a match, and then only
+        // segments at most that far need to be searched
+        for (const auto& level : levels_) {
+            const std::size_t id = level->tree.near_leaf_point(q.point.data(), q.point_f.data());
+            const double bound = best.found ? best.n.squared_distance : radius_sq;
+            const double d2 = squared_distance_up_to(query, values.data() + id * n_dim, n_dim, bound);
+            if (d2 < radius_sq) best.offer(id, d2);
+        }
+        const double tree_limit = best.found ? q.key_limit(best.n.squared_distance) : search_limit;
+
         // candidates from every tree and from the buffer
         std::vector<Candidate> found;
-        nanoflann::SearchParams params(32, 0.0f, false);
-        for (const auto& level : levels_) {
-            Collector collector{search_sq, level->begin(), &found};
-            level->tree->findNeighbors(collector, q.data(), params);
-        }
+        for (const auto& level : levels_) level->tree.within(q.point.data(), q.point_f.data(), tree_limit, found);
         const std::size_t indexed = levels_.empty() ? 0 : levels_.back()->end();
         for (std::size_t id = indexed; id < size_; ++id) {
-            const double lb = squared_gap(q.data(), points + id * channels_, channels_);
-            if (lb < search_sq) found.emplace_back(lb, id);
+            const double gap = squared_gap(q.point_f.data(), tree_points_.data() + id * stride, stride);
+            if (gap <= tree_limit) found.emplace_back(gap, id);
         }
         if (candidates) *candidates = found.size();
 
-        // exact checks in increasing lower bound; stop once the bound passes the best
-        for (auto& c : found) c.first = safe_lower_sq(c.first, pad);
+        // the finer bound replaces the tree's as the key and drops the
+        // candidates it proves too far
+        if (!q.filter_point.empty()) {
+            const std::size_t f_dim = filter_dim();
+            std::size_t kept = 0;
+            for (const auto& [tree_key, id] : found) {
+                const double key = squared_gap(q.filter_point.data(), filter_points_.data() + id * f_dim, f_dim);
+                if (key <= tree_limit) found[kept++] = {key, id};
+            }
+            found.resize(kept);
+        }
+
+        // exact checks in increasing key; stop once the key proves the
+        // distance above the best
         std::sort(found.begin(), found.end());
-        for (const auto& [lower, id] : found) {
+        double limit = tree_limit;
+        for (const auto& [key, id] : found) {
+            if (key > limit) break;
             const double bound = best.found ? best.n.squared_distance : radius_sq;
-            if (lower > bound) break;
             const double d2 = squared_distance_up_to(query, values.data() + id * n_dim, n_dim, bound);
-            if (d2 < radius_sq) best.offer(id, d2);
+            if (d2 < radius_sq) {
+                best.offer(id, d2);
+                limit = q.key_limit(best.n.squared_distance);
+            }
         }
     }
     if (!best.found) return std::nullopt;
@@ -293,13 +308,13 @@ std::optional<Neighbour> SegmentIndex::nearest_within(std::span<const float> val
 }
 
 std::size_t SegmentIndex::count_candidates(const float* query, double radius) const {
-    std::vector<double> q(channels_);
-    const double q_abs = lower_bound_point(query, width_, channels_, q.data());
-    const double pad = kPadRelative * (1.0 + std::max(max_abs_, q_abs)) * std::sqrt(static_cast<double>(dim()));
-    const double search_sq = (radius + pad) * (radius + pad);
+    if (huge_) return size_;
+    const Search q = prepare(query);
+    const double limit = q.key_limit(radius * radius);
+    const std::size_t stride = tree_stride();
     std::size_t seen = 0;
     for (std::size_t id = 0; id < size_; ++id)
-        if (squared_gap(q.data(), points_->data() + id * channels_, channels_) < search_sq) ++seen;
+        if (squared_gap(q.point_f.data(), tree_points_.data() + id * stride, stride) <= limit) ++seen;
     return seen;
 }
 
@@ -312,7 +327,7 @@ void SegmentIndex::probe(const float* query, double radius) {
 void SegmentIndex::learn(std::size_t queries, std::size_t candidates_per_query) {
     stats_.queries += queries;
     stats_.candidates += queries * candidates_per_query;
-    if (brute_force_) stats_.linear_queries += queries;
+    if (brute_force()) stats_.linear_queries += queries;
     if (size_ == 0 || queries == 0) return;
     const double fraction = static_cast<double>(candidates_per_query) / static_cast<double>(size_);
     const double keep = std::pow(kFractionDecay, static_cast<double>(queries));
@@ -354,7 +369,7 @@ void SegmentIndex::brute_batch(std::span<const float> values, const float* queri
 void SegmentIndex::nearest_within_batch(std::span<const float> values, const float* queries, std::size_t count,
                                         double radius, std::span<std::optional<Neighbour>> out) const {
     STEPSTONE_ASSERT(out.size() >= count);
-    if (brute_force_) {
+    if (brute_force()) {
         brute_batch(values, queries, count, radius, out);
         return;
     }
@@ -366,7 +381,7 @@ void SegmentIndex::nearest_within_batch_adaptive(std::span<const float> values, 
                                                  std::span<std::optional<Neighbour>> out) {
     STEPSTONE_ASSERT(out.size() >= count);
     if (count == 0) return;
-    if (!brute_force_) {
+    if (!brute_force()) {
         for (std::size_t i = 0; i < count; ++i) out[i] = nearest_within_adaptive(values, queries + i * dim(), radius);
         return;
     }
@@ -389,19 +404,19 @@ std::optional<Neighbour> SegmentIndex::nearest_within_adaptive(std::span<const f
 std::optional<Neighbour> SegmentIndex::nearest(std::span<const float> values, const float* query) const {
     if (size_ == 0) return std::nullopt;
     const std::size_t n_dim = dim();
+    if (huge_) {
+        Best all;
+        for (std::size_t id = 0; id < size_; ++id)
+            all.offer(id, squared_distance(query, values.data() + id * n_dim, n_dim));
+        return all.n;
+    }
 
     // an upper bound: the exact distance of the lower-bound nearest of each
     // tree, and of the first buffered segment
     Best best;
-    std::vector<double> q(channels_);
-    lower_bound_point(query, width_, channels_, q.data());
+    const Search q = prepare(query);
     for (const auto& level : levels_) {
-        std::size_t local = 0;
-        double lb = 0.0;
-        nanoflann::KNNResultSet<double, std::size_t> result(1);
-        result.init(&local, &lb);
-        level->tree->findNeighbors(result, q.data(), nanoflann::SearchParams());
-        const std::size_t id = level->begin() + local;
+        const std::size_t id = level->tree.near_leaf_point(q.point.data(), q.point_f.data());
         best.offer(id, squared_distance(query, values.data() + id * n_dim, n_dim));
     }
     const std::size_t indexed = levels_.empty() ? 0 : levels_.back()->end();

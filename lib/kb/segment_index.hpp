@@ -9,6 +9,9 @@
 
 namespace stepstone::kb {
 
+class BlockMeans;
+class Projection;
+
 /// A segment of the index and its squared distance to a query.
 struct Neighbour {
     std::size_t id = 0;             ///< segment id (insertion order, from 0)
@@ -18,8 +21,10 @@ struct Neighbour {
 /// Counters of the work the index did, for benchmarks and tuning.
 struct IndexStats {
     std::uint64_t queries = 0;          ///< queries answered
-    /// Segments whose lower bound fell within the radius (on the brute-force
-    /// path only every 16th query counts them; the others add the running mean).
+    /// Segments the trees and the buffer returned, i.e. whose projected lower
+    /// bound fell within the radius or the first upper bound (on the
+    /// brute-force path only every 16th query counts them against the radius;
+    /// the others add the running mean).
     std::uint64_t candidates = 0;
     std::uint64_t linear_queries = 0;   ///< queries answered by the brute-force path
     std::uint64_t rebuilds = 0;         ///< KD-trees built
@@ -32,25 +37,33 @@ struct IndexStats {
 /// segment is the one with the smallest squared distance, ties going to the
 /// lowest id, and "within r" means squared distance < r * r.
 ///
-/// How: the `channels` per-channel means of a segment of `width` rows, scaled
-/// by sqrt(width), form a point p; by Cauchy-Schwarz ||p(a) - p(b)|| <= ||a - b||
-/// (within each channel, the sum of w squared differences is at least w times
-/// the squared difference of the means). Those low-dimensional points go into
-/// nanoflann KD-trees; a query fetches the segments whose lower bound is below
-/// its radius and checks them in full dimension, in increasing lower-bound
-/// order, stopping as soon as the bound exceeds the best distance found.
-/// Lower bounds are computed in double and searched with a small safety pad,
-/// so rounding can only add candidates, never lose one.
+/// How: the block means of a segment (BlockMeans: 5 row blocks x channels,
+/// each mean scaled by sqrt(rows)) bound its distance from below by
+/// Cauchy-Schwarz; a projection with orthonormal rows (the leading principal
+/// directions of the indexed block means, or the channel means while the index
+/// is small) keeps a lower bound in a few dimensions. The projected points go
+/// into KD-trees (BoundTree); a query first takes an upper bound from the
+/// segment nearest in tree space in the leaf it falls into, then fetches every
+/// segment whose projected bound is within it (or within the radius), drops
+/// those whose block-means bound is not, and checks the rest in full
+/// dimension in increasing block-means bound, stopping as soon as the bound
+/// exceeds the best distance found. Bounds are kept in float with a safety
+/// pad (and a relative slack for float sums), so rounding can only add
+/// candidates, never lose one.
 ///
 /// Growth: appended segments go to a short buffer scanned linearly; a full
 /// buffer becomes a small tree, and trees are merged and rebuilt when a newer
 /// one reaches half the size of the one before (the logarithmic method), so
-/// there are O(log n) trees and each point is rebuilt O(log n) times.
+/// there are O(log n) trees and each point is rebuilt O(log n) times. The
+/// projection is refitted when everything is rebuilt and the index has doubled
+/// since the last fit.
 ///
 /// When the lower bounds prune little (e.g. uniform random values), the index
 /// switches to a brute-force scan (lower bound, then a full distance that stops
 /// at the current bound); the switch is decided from the fraction of
 /// candidates seen by recent non-const queries and never changes an answer.
+/// Values so large that float bounds could overflow (|value| x sqrt(width) >=
+/// 1e15) also send every query to the brute-force scan.
 ///
 /// The index stores no segment values: queries take the values of all indexed
 /// segments (segment i at values[i * dim, (i + 1) * dim)), which must be the
@@ -105,17 +118,22 @@ public:
     void probe(const float* query, double radius);
 
     /// True while queries use the brute-force path.
-    bool brute_force() const { return brute_force_; }
+    bool brute_force() const { return brute_force_ || huge_; }
     /// Work counters since construction (updated by non-const queries and
     /// growth only).
     const IndexStats& stats() const { return stats_; }
-    /// Bytes the index holds per segment (lower-bound point, tree indices and nodes).
+    /// Bytes the index holds per segment (bound points, tree copies, ids and nodes).
     double bytes_per_segment() const;
 
 private:
     struct Level;
     struct Search;
 
+    std::size_t tree_stride() const;
+    std::size_t filter_dim() const;
+    void project(std::size_t id);
+    void choose_projection();
+    Search prepare(const float* query) const;
     void add_point(const float* segment);
     void grow_levels();
     void rebuild_level_from(std::size_t first_level);
@@ -129,9 +147,16 @@ private:
     std::size_t width_;
     std::size_t channels_;
     std::size_t size_ = 0;
-    // lower-bound points: channels_ doubles per segment, behind a stable
-    // address because the trees' dataset adaptors point to it
-    std::unique_ptr<std::vector<double>> points_;
+    std::unique_ptr<BlockMeans> fine_;
+    std::unique_ptr<Projection> projection_;
+    std::size_t principal_size_ = 0;  // size when the projection was fitted (0: channel means)
+    bool filter_on_ = false;
+    bool huge_ = false;  // values too large for the float points: brute force only
+    std::vector<double> scratch_;  // one point while appending
+    // tree points: tree_stride() floats per segment (projected filter points)
+    std::vector<float> tree_points_;
+    // filter points: filter_dim() floats per segment (block means)
+    std::vector<float> filter_points_;
     std::vector<std::unique_ptr<Level>> levels_;
     double max_abs_ = 0.0;
     bool brute_force_ = false;

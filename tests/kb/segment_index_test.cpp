@@ -1,11 +1,14 @@
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
 #include "core/error.hpp"
 #include "core/rng.hpp"
+#include "kb/block_means.hpp"
 #include "kb/distance.hpp"
+#include "kb/projection.hpp"
 #include "kb/segment_index.hpp"
 #include "oracle.hpp"
 
@@ -47,7 +50,155 @@ void check_queries(kb::SegmentIndex& index, const std::vector<float>& values, co
     }
 }
 
+// behaviour-like segments: `channels` channels of `width` rows cut from long
+// series, half of them smooth (random walks in [0, 1]) and half binary,
+// switching rarely; series are shared by families with small offsets, so
+// many segments lie near each other as the behaviours of one run do
+std::vector<float> behaviour_segments(Rng& rng, std::size_t n, std::size_t width, std::size_t channels) {
+    constexpr std::size_t kFamilies = 6;
+    const std::size_t steps = n * width / kFamilies + width;
+    std::vector<float> series(kFamilies * steps * channels);
+    for (std::size_t f = 0; f < kFamilies; ++f)
+        for (std::size_t c = 0; c < channels; ++c) {
+            double v = rng.uniform();
+            for (std::size_t t = 0; t < steps; ++t) {
+                if (c % 2 == 0) {
+                    v = std::clamp(v + rng.uniform(-0.05, 0.05), 0.0, 1.0);
+                    series[(f * steps + t) * channels + c] = static_cast<float>(v);
+                } else {
+                    if (rng.bernoulli(0.02)) v = v < 0.5 ? 1.0 : 0.0;
+                    series[(f * steps + t) * channels + c] = v < 0.5 ? 0.0f : 1.0f;
+                }
+            }
+        }
+    std::vector<float> out(n * width * channels);
+    for (std::size_t i = 0; i < n; ++i) {
+        const std::size_t f = static_cast<std::size_t>(rng.below(kFamilies));
+        const std::size_t start = static_cast<std::size_t>(rng.below(steps - width));
+        const float offset = static_cast<float>(rng.uniform(-0.03, 0.03));
+        for (std::size_t k = 0; k < width * channels; ++k) {
+            const float v = series[(f * steps + start) * channels + k];
+            out[i * width * channels + k] = (k % channels) % 2 == 0 ? v + offset : v;
+        }
+    }
+    return out;
+}
+
 }  // namespace
+
+TEST_CASE("block means never exceed the distance, and more blocks bound it more tightly", "[kb][index][bound]") {
+    Rng rng(12, 0, 0, Purpose::test);
+    struct Shape {
+        std::size_t width, channels;
+    };
+    for (const Shape s : {Shape{20, 15}, Shape{7, 3}, Shape{1, 4}, Shape{13, 1}}) {
+        const std::size_t dim = s.width * s.channels;
+        CAPTURE(s.width, s.channels);
+        const std::vector<float> v = kbtest::uniform_segments(rng, 400, dim);
+        for (std::size_t blocks : {1u, 2u, 3u, 5u, 20u}) {
+            const kb::BlockMeans means(s.width, s.channels, blocks);
+            CHECK(means.blocks() == std::min<std::size_t>(blocks, s.width));
+            std::vector<double> a(means.dim()), b(means.dim());
+            for (std::size_t i = 0; i + 1 < 400; i += 2) {
+                means.point(v.data() + i * dim, a.data());
+                means.point(v.data() + (i + 1) * dim, b.data());
+                const double bound = kb::squared_gap(a.data(), b.data(), means.dim());
+                const double d2 = kb::squared_distance(v.data() + i * dim, v.data() + (i + 1) * dim, dim);
+                REQUIRE(bound <= d2 * (1 + 1e-12));
+                // with one row per block the point is the segment itself
+                if (means.blocks() == s.width) REQUIRE(bound == Approx(d2).epsilon(1e-12));
+            }
+        }
+        // nested blocks: 2 blocks never bound more loosely than 1 where 1 | 2
+        const kb::BlockMeans one(s.width, s.channels, 1), two(s.width, s.channels, 2);
+        std::vector<double> a1(one.dim()), b1(one.dim()), a2(two.dim()), b2(two.dim());
+        for (std::size_t i = 0; i + 1 < 400; i += 2) {
+            one.point(v.data() + i * dim, a1.data());
+            one.point(v.data() + (i + 1) * dim, b1.data());
+            two.point(v.data() + i * dim, a2.data());
+            two.point(v.data() + (i + 1) * dim, b2.data());
+            REQUIRE(kb::squared_gap(a1.data(), b1.data(), one.dim()) <=
+                    kb::squared_gap(a2.data(), b2.data(), two.dim()) * (1 + 1e-12) + 1e-300);
+        }
+    }
+}
+
+TEST_CASE("a projection keeps a lower bound: orthonormal rows never lengthen a difference", "[kb][index][bound]") {
+    Rng rng(13, 0, 0, Purpose::test);
+    const std::size_t width = 20, channels = 15;
+    const kb::BlockMeans means(width, channels, 5);
+    const std::vector<float> segments = behaviour_segments(rng, 600, width, channels);
+    std::vector<float> points(600 * means.dim());
+    std::vector<double> p(means.dim());
+    for (std::size_t i = 0; i < 600; ++i) {
+        means.point(segments.data() + i * width * channels, p.data());
+        for (std::size_t k = 0; k < means.dim(); ++k) points[i * means.dim() + k] = static_cast<float>(p[k]);
+    }
+    const kb::Projection fallback = kb::Projection::channel_means(width, channels, 5);
+    CHECK(fallback.orthonormality_error() < 1e-15);
+    const kb::Projection principal = kb::Projection::principal(points.data(), 600, means.dim(), 12, fallback);
+    CHECK(principal.out_dim() == 12);
+    CHECK(principal.orthonormality_error() < 1e-12);
+    for (const kb::Projection* proj : {&fallback, &principal}) {
+        std::vector<double> a(proj->out_dim()), b(proj->out_dim());
+        for (std::size_t i = 0; i + 1 < 600; i += 2) {
+            proj->apply(points.data() + i * means.dim(), a.data());
+            proj->apply(points.data() + (i + 1) * means.dim(), b.data());
+            double full = 0;
+            for (std::size_t k = 0; k < means.dim(); ++k) {
+                const double d = static_cast<double>(points[i * means.dim() + k]) - points[(i + 1) * means.dim() + k];
+                full += d * d;
+            }
+            REQUIRE(kb::squared_gap(a.data(), b.data(), proj->out_dim()) <= full * (1 + 1e-12) + 1e-300);
+        }
+    }
+    // the channel-means projection of the block means is the channel means
+    std::vector<double> direct(channels), projected(channels);
+    kb::BlockMeans(width, channels, 1).point(segments.data(), direct.data());
+    means.point(segments.data(), p.data());
+    fallback.apply(p.data(), projected.data());
+    for (std::size_t c = 0; c < channels; ++c) CHECK(projected[c] == Approx(direct[c]).epsilon(1e-12));
+}
+
+TEST_CASE("the index equals a linear scan on behaviour-like data, bulk-built and grown", "[kb][index]") {
+    // past the size where the projection is fitted to the data, with near
+    // duplicates, binary channels and queries both near and far from the KB
+    Rng rng(14, 0, 0, Purpose::test);
+    const std::size_t width = 20, channels = 15, dim = width * channels;
+    const std::vector<float> data = behaviour_segments(rng, 2600, width, channels);
+    std::vector<float> queries = behaviour_segments(rng, 30, width, channels);
+    const std::vector<float> far = kbtest::uniform_segments(rng, 5, dim);
+    queries.insert(queries.end(), far.begin(), far.end());
+    for (const double radius : {0.8, 1.83, 3.0}) {
+        CAPTURE(radius);
+        kb::SegmentIndex grown(width, channels);
+        std::vector<float> values;
+        for (std::size_t i = 0; i < 2600; ++i) {
+            values.insert(values.end(), data.begin() + static_cast<std::ptrdiff_t>(i * dim),
+                          data.begin() + static_cast<std::ptrdiff_t>((i + 1) * dim));
+            grown.append(values.data() + i * dim);
+            if (i == 1100 || i == 2047 || i == 2599) check_queries(grown, values, queries, radius);
+        }
+        CHECK_FALSE(grown.brute_force());
+        kb::SegmentIndex bulk(width, channels);
+        bulk.assign(values);
+        check_queries(bulk, values, queries, radius);
+        // stored segments as queries: distance 0, the lowest id among equals
+        check_queries(bulk, values, std::vector<float>(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(40 * dim)), radius);
+    }
+}
+
+TEST_CASE("values too large for float bounds send the index to brute force, still exact", "[kb][index]") {
+    Rng rng(15, 0, 0, Purpose::test);
+    const std::size_t width = 4, channels = 3, dim = width * channels;
+    std::vector<float> values = kbtest::clustered_segments(rng, 300, dim, 10, 0.1);
+    for (std::size_t k = 0; k < dim; ++k) values[150 * dim + k] = 1e30f;
+    kb::SegmentIndex index(width, channels);
+    for (std::size_t i = 0; i < 300; ++i) index.append(values.data() + i * dim);
+    CHECK(index.brute_force());
+    const std::vector<float> queries = kbtest::clustered_segments(rng, 10, dim, 10, 0.1);
+    check_queries(index, values, queries, 0.5);
+}
 
 TEST_CASE("the distance follows the documented lane order", "[kb][distance]") {
     // the oracle writes the documented order as a plain loop

@@ -1,0 +1,67 @@
+#include "kb/block_means.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/assert.hpp"
+
+namespace stepstone::kb {
+
+BlockMeans::BlockMeans(std::size_t width, std::size_t channels, std::size_t blocks)
+    : width_(width), channels_(channels), blocks_(std::clamp<std::size_t>(blocks, 1, std::max<std::size_t>(width, 1))) {
+    STEPSTONE_ASSERT(width >= 1 && channels >= 1);
+}
+
+double BlockMeans::point(const float* segment, double* out) const {
+    double max_abs = 0.0;
+    for (std::size_t b = 0; b < blocks_; ++b) {
+        const std::size_t first = b * width_ / blocks_;
+        const std::size_t end = (b + 1) * width_ / blocks_;
+        double* p = out + b * channels_;
+        for (std::size_t c = 0; c < channels_; ++c) p[c] = 0.0;
+        for (std::size_t t = first; t < end; ++t) {
+            const float* row = segment + t * channels_;
+            for (std::size_t c = 0; c < channels_; ++c) {
+                const double v = row[c];
+                p[c] += v;
+                max_abs = std::max(max_abs, std::fabs(v));
+            }
+        }
+        // sum / rows * sqrt(rows) = sum / sqrt(rows)
+        const double scale = 1.0 / std::sqrt(static_cast<double>(end - first));
+        for (std::size_t c = 0; c < channels_; ++c) p[c] *= scale;
+    }
+    return max_abs;
+}
+
+double squared_gap(const double* a, const double* b, std::size_t n) {
+    double s[4] = {};
+    std::size_t k = 0;
+    for (; k + 4 <= n; k += 4)
+        for (std::size_t j = 0; j < 4; ++j) {
+            const double d = a[k + j] - b[k + j];
+            s[j] += d * d;
+        }
+    for (std::size_t j = 0; k < n; ++k, ++j) {
+        const double d = a[k] - b[k];
+        s[j] += d * d;
+    }
+    return (s[0] + s[1]) + (s[2] + s[3]);
+}
+
+float squared_gap(const float* a, const float* b, std::size_t n) {
+    float s[8] = {};
+    std::size_t k = 0;
+    for (; k + 8 <= n; k += 8)
+        for (std::size_t j = 0; j < 8; ++j) {
+            const float d = a[k + j] - b[k + j];
+            s[j] += d * d;
+        }
+    for (std::size_t j = 0; k < n; ++k, ++j) {
+        const float d = a[k] - b[k];
+        s[j] += d * d;
+    }
+    return ((s[0] + s[1]) + (s[2] + s[3])) + ((s[4] + s[5]) + (s[6] + s[7]));
+}
+
+}  // namespace stepstone::kb

@@ -1,0 +1,150 @@
+#include "kb/projection.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <utility>
+
+#include "core/assert.hpp"
+
+namespace stepstone::kb {
+
+namespace {
+
+constexpr std::size_t kMaxSample = 4096;
+constexpr int kMaxSweeps = 60;
+constexpr double kOrthonormalTolerance = 1e-12;
+
+// eigenvalues (diagonal of `a` on return) and eigenvectors (columns of `v`)
+// of the symmetric n x n matrix `a`, by cyclic Jacobi rotations
+void jacobi(std::vector<double>& a, std::vector<double>& v, std::size_t n) {
+    v.assign(n * n, 0.0);
+    for (std::size_t i = 0; i < n; ++i) v[i * n + i] = 1.0;
+    for (int sweep = 0; sweep < kMaxSweeps; ++sweep) {
+        double off = 0.0, diag = 0.0;
+        for (std::size_t p = 0; p < n; ++p) {
+            diag += a[p * n + p] * a[p * n + p];
+            for (std::size_t q = p + 1; q < n; ++q) off += a[p * n + q] * a[p * n + q];
+        }
+        if (off <= 1e-30 * diag || off == 0.0) return;
+        for (std::size_t p = 0; p < n; ++p) {
+            for (std::size_t q = p + 1; q < n; ++q) {
+                const double apq = a[p * n + q];
+                if (apq == 0.0) continue;
+                const double theta = (a[q * n + q] - a[p * n + p]) / (2.0 * apq);
+                const double t = (theta >= 0 ? 1.0 : -1.0) / (std::fabs(theta) + std::sqrt(theta * theta + 1.0));
+                const double c = 1.0 / std::sqrt(t * t + 1.0), s = t * c;
+                for (std::size_t k = 0; k < n; ++k) {  // columns p, q
+                    const double akp = a[k * n + p], akq = a[k * n + q];
+                    a[k * n + p] = c * akp - s * akq;
+                    a[k * n + q] = s * akp + c * akq;
+                }
+                for (std::size_t k = 0; k < n; ++k) {  // rows p, q
+                    const double apk = a[p * n + k], aqk = a[q * n + k];
+                    a[p * n + k] = c * apk - s * aqk;
+                    a[q * n + k] = s * apk + c * aqk;
+                }
+                for (std::size_t k = 0; k < n; ++k) {
+                    const double vkp = v[k * n + p], vkq = v[k * n + q];
+                    v[k * n + p] = c * vkp - s * vkq;
+                    v[k * n + q] = s * vkp + c * vkq;
+                }
+            }
+        }
+    }
+}
+
+// modified Gram-Schmidt over the rows, twice; a row that vanishes is left 0
+void orthonormalise(std::vector<double>& rows, std::size_t count, std::size_t n) {
+    for (int pass = 0; pass < 2; ++pass) {
+        for (std::size_t i = 0; i < count; ++i) {
+            double* r = rows.data() + i * n;
+            for (std::size_t j = 0; j < i; ++j) {
+                const double* u = rows.data() + j * n;
+                const double dot = std::inner_product(r, r + n, u, 0.0);
+                for (std::size_t k = 0; k < n; ++k) r[k] -= dot * u[k];
+            }
+            const double norm = std::sqrt(std::inner_product(r, r + n, r, 0.0));
+            for (std::size_t k = 0; k < n; ++k) r[k] = norm > 0 ? r[k] / norm : 0.0;
+        }
+    }
+}
+
+// out[r] = row r . in, with four partial sums so that it vectorises
+template <class T>
+void project(const double* rows, std::size_t in_dim, std::size_t out_dim, const T* in, double* out) {
+    for (std::size_t r = 0; r < out_dim; ++r) {
+        const double* row = rows + r * in_dim;
+        double s[4] = {};
+        std::size_t k = 0;
+        for (; k + 4 <= in_dim; k += 4)
+            for (std::size_t j = 0; j < 4; ++j) s[j] += row[k + j] * static_cast<double>(in[k + j]);
+        for (std::size_t j = 0; k < in_dim; ++k, ++j) s[j] += row[k] * static_cast<double>(in[k]);
+        out[r] = (s[0] + s[1]) + (s[2] + s[3]);
+    }
+}
+
+}  // namespace
+
+Projection Projection::channel_means(std::size_t width, std::size_t channels, std::size_t blocks) {
+    STEPSTONE_ASSERT(blocks >= 1 && blocks <= width);
+    const std::size_t in = blocks * channels;
+    std::vector<double> rows(channels * in, 0.0);
+    for (std::size_t b = 0; b < blocks; ++b) {
+        const std::size_t block_rows = (b + 1) * width / blocks - b * width / blocks;
+        const double w = std::sqrt(static_cast<double>(block_rows) / static_cast<double>(width));
+        for (std::size_t c = 0; c < channels; ++c) rows[c * in + b * channels + c] = w;
+    }
+    return Projection(in, channels, std::move(rows));
+}
+
+Projection Projection::principal(const float* points, std::size_t count, std::size_t in, std::size_t out,
+                                 const Projection& fallback) {
+    STEPSTONE_ASSERT(out >= 1 && out <= in && count >= 2);
+    // covariance of an evenly spaced sample
+    const std::size_t stride = std::max<std::size_t>(1, count / kMaxSample);
+    std::vector<double> mean(in, 0.0), cov(in * in, 0.0), x(in);
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < count; i += stride, ++n)
+        for (std::size_t k = 0; k < in; ++k) mean[k] += points[i * in + k];
+    for (double& m : mean) m /= static_cast<double>(n);
+    for (std::size_t i = 0; i < count; i += stride) {
+        for (std::size_t k = 0; k < in; ++k) x[k] = points[i * in + k] - mean[k];
+        for (std::size_t r = 0; r < in; ++r)
+            for (std::size_t c = r; c < in; ++c) cov[r * in + c] += x[r] * x[c];
+    }
+    for (std::size_t r = 0; r < in; ++r)
+        for (std::size_t c = 0; c < r; ++c) cov[r * in + c] = cov[c * in + r];
+
+    std::vector<double> vectors;
+    jacobi(cov, vectors, in);
+    std::vector<std::size_t> order(in);
+    std::iota(order.begin(), order.end(), std::size_t{0});
+    std::stable_sort(order.begin(), order.end(),
+                     [&](std::size_t a, std::size_t b) { return cov[a * in + a] > cov[b * in + b]; });
+    std::vector<double> rows(out * in);
+    for (std::size_t r = 0; r < out; ++r)
+        for (std::size_t k = 0; k < in; ++k) rows[r * in + k] = vectors[k * in + order[r]];
+    orthonormalise(rows, out, in);
+    Projection p(in, out, std::move(rows));
+    if (!(p.orthonormality_error() <= kOrthonormalTolerance)) return fallback;
+    return p;
+}
+
+void Projection::apply(const double* in, double* out) const { project(rows_.data(), in_, out_, in, out); }
+
+void Projection::apply(const float* in, double* out) const { project(rows_.data(), in_, out_, in, out); }
+
+double Projection::orthonormality_error() const {
+    double worst = 0.0;
+    for (std::size_t i = 0; i < out_; ++i)
+        for (std::size_t j = 0; j <= i; ++j) {
+            const double dot = std::inner_product(rows_.begin() + static_cast<std::ptrdiff_t>(i * in_),
+                                                  rows_.begin() + static_cast<std::ptrdiff_t>((i + 1) * in_),
+                                                  rows_.begin() + static_cast<std::ptrdiff_t>(j * in_), 0.0);
+            worst = std::max(worst, std::fabs(dot - (i == j ? 1.0 : 0.0)));
+        }
+    return worst;
+}
+
+}  // namespace stepstone::kb
