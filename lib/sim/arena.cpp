@@ -136,6 +136,51 @@ double Arena::ray_distance(double x, double y, double dx, double dy, double rang
     return static_cast<double>(best) <= range ? static_cast<double>(best) : -1.0;
 }
 
+void Arena::ray_distances(double x, double y, const double (&directions)[3][2], double range, bool door_open,
+                          double (&out)[3]) const {
+    const Slots& s = slots(door_open);
+    const auto ox = static_cast<float>(x);
+    const auto oy = static_cast<float>(y);
+    float ix[3];
+    float iy[3];
+    for (std::size_t r = 0; r < 3; ++r) {
+        const double dx = directions[r][0];
+        const double dy = directions[r][1];
+        ix[r] = 1.0f / (std::fabs(dx) < 1e-30 ? 1e-30f : static_cast<float>(dx));
+        iy[r] = 1.0f / (std::fabs(dy) < 1e-30 ? 1e-30f : static_cast<float>(dy));
+    }
+    constexpr float kNone = 1e30f;
+
+    // ray_distance's slab test with the offsets to each slot shared by the
+    // three rays; every float operation is the one ray_distance performs
+    alignas(64) std::array<float, kSlots> ax0, ax1, ay0, ay1;
+    for (std::size_t k = 0; k < kSlots; ++k) {
+        ax0[k] = s.x0[k] - ox;
+        ax1[k] = s.x1[k] - ox;
+        ay0[k] = s.y0[k] - oy;
+        ay1[k] = s.y1[k] - oy;
+    }
+    alignas(64) std::array<float, kSlots> hit[3];
+    for (std::size_t r = 0; r < 3; ++r) {
+        const float rx = ix[r];
+        const float ry = iy[r];
+        for (std::size_t k = 0; k < kSlots; ++k) {
+            const float tx0 = ax0[k] * rx;
+            const float tx1 = ax1[k] * rx;
+            const float ty0 = ay0[k] * ry;
+            const float ty1 = ay1[k] * ry;
+            const float enter = std::max(std::min(tx0, tx1), std::min(ty0, ty1));
+            const float leave = std::min(std::max(tx0, tx1), std::max(ty0, ty1));
+            hit[r][k] = (enter <= leave) & (leave >= 0.0f) ? std::max(enter, 0.0f) : kNone;
+        }
+    }
+    for (std::size_t r = 0; r < 3; ++r) {
+        float best = kNone;
+        for (float t : hit[r]) best = std::min(best, t);
+        out[r] = static_cast<double>(best) <= range ? static_cast<double>(best) : -1.0;
+    }
+}
+
 namespace {
 
 // one slab test of a segment against a box, parameter in [0, 1]
@@ -173,23 +218,18 @@ bool Arena::disc_overlaps(double x, double y, bool door_open) const {
     const auto cx = static_cast<float>(x);
     const auto cy = static_cast<float>(y);
     const auto r2 = static_cast<float>(kRobotRadius * kRobotRadius);
-    // squared distance from the centre to the closest point of each box
-    alignas(64) std::array<float, kSlots> d2;
+    // the centre's distance outside each box's x and y slabs, 0 inside; the
+    // clamp at 0 and the squares in separate loops keep both in vector
+    // registers (together, the compiler branches on the clamp)
+    alignas(64) std::array<float, kSlots> ex;
+    alignas(64) std::array<float, kSlots> ey;
     for (std::size_t k = 0; k < kSlots; ++k) {
-        // the centre's distance outside each slab, 0 inside it
-        const float x0 = s.x0[k] - cx;
-        const float x1 = cx - s.x1[k];
-        const float y0 = s.y0[k] - cy;
-        const float y1 = cy - s.y1[k];
-        const float dx = x0 > x1 ? x0 : x1;
-        const float dy = y0 > y1 ? y0 : y1;
-        const float ex = dx > 0.0f ? dx : 0.0f;
-        const float ey = dy > 0.0f ? dy : 0.0f;
-        d2[k] = ex * ex + ey * ey;
+        ex[k] = std::max(std::max(s.x0[k] - cx, cx - s.x1[k]), 0.0f);
+        ey[k] = std::max(std::max(s.y0[k] - cy, cy - s.y1[k]), 0.0f);
     }
-    bool overlap = false;
-    for (float d : d2) overlap |= d < r2;
-    return overlap;
+    int overlaps = 0;
+    for (std::size_t k = 0; k < kSlots; ++k) overlaps += ex[k] * ex[k] + ey[k] * ey[k] < r2 ? 1 : 0;
+    return overlaps != 0;
 }
 
 Contact Arena::contact(const Pose& pose, bool door_open) const {
@@ -197,7 +237,7 @@ Contact Arena::contact(const Pose& pose, bool door_open) const {
     if (!disc_overlaps(pose.x, pose.y, door_open)) return result;
     result.hit = true;
     const double r2 = kRobotRadius * kRobotRadius;
-    for (int i = 0; i < wall_count_; ++i) {
+    for (int i = 0; i < wall_count_ && !(result.left && result.right); ++i) {
         if (door_open && i == door_index_) continue;
         const WallBox& box = walls_[static_cast<std::size_t>(i)];
         const double px = clamp(pose.x, box.x0, box.x1);

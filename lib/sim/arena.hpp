@@ -48,6 +48,11 @@ public:
     /// Distance in units from (x, y) along the unit direction (dx, dy) to the
     /// first wall, or -1 when no wall lies within `range`.
     double ray_distance(double x, double y, double dx, double dy, double range, bool door_open) const;
+    /// ray_distance() for three rays from the same point at once (the
+    /// lasers): `directions[i]` is ray i's unit direction, `out[i]` its result,
+    /// bit-identical to three ray_distance() calls.
+    void ray_distances(double x, double y, const double (&directions)[3][2], double range, bool door_open,
+                       double (&out)[3]) const;
     /// True when a wall crosses the segment from (x0, y0) to (x1, y1).
     bool segment_blocked(double x0, double y0, double x1, double y1, bool door_open) const;
     /// The same test restricted to the walls whose bit is set in `walls`

@@ -1,8 +1,11 @@
 #include "sim/sensors.hpp"
 
-#include <bit>
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "core/assert.hpp"
 #include "core/error.hpp"
@@ -28,8 +31,26 @@ Window window_of(double angle) {
 
 const Window kWindows[2] = {window_of(kLightSensorAngles[0]), window_of(kLightSensorAngles[1])};
 
+// bit i set when a[i] > 0 and b[i] > 0: inside()'s two tests, slot by slot
+std::uint32_t positive_pairs(const std::array<double, kMaxLights>& a, const std::array<double, kMaxLights>& b) {
+    std::uint32_t bits = 0;
+#if defined(__SSE2__)
+    const __m128d zero = _mm_setzero_pd();
+    for (std::size_t i = 0; i < a.size(); i += 2) {
+        const __m128d both = _mm_and_pd(_mm_cmpgt_pd(_mm_load_pd(&a[i]), zero), _mm_cmpgt_pd(_mm_load_pd(&b[i]), zero));
+        bits |= static_cast<std::uint32_t>(_mm_movemask_pd(both)) << i;
+    }
+#else
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        bits |= static_cast<std::uint32_t>((a[i] > 0.0) & (b[i] > 0.0)) << i;
+    }
+#endif
+    return bits;
+}
+
 bool inside(const Window& w, double u, double v) {
-    return w.lo_x * v - w.lo_y * u > 0.0 && u * w.hi_y - v * w.hi_x > 0.0;
+    // both sides evaluated: no branch on the first outcome
+    return (w.lo_x * v - w.lo_y * u > 0.0) & (u * w.hi_y - v * w.hi_x > 0.0);
 }
 
 constexpr const char* kChannelNames[kChannels] = {
@@ -42,6 +63,18 @@ constexpr const char* kChannelNames[kChannels] = {
 
 namespace {
 
+// the three lasers at +pi/4, -pi/4 and 0, from the heading's cosine and sine:
+// rotations by the fixed angles
+void sense_lasers(const Arena& arena, const Pose& pose, double c, double s, bool door_open, SensorReadings& out) {
+    constexpr double kHalfRoot2 = 0.70710678118654752440;
+    const double dirs[3][2] = {{(c - s) * kHalfRoot2, (s + c) * kHalfRoot2},
+                               {(c + s) * kHalfRoot2, (s - c) * kHalfRoot2},
+                               {c, s}};
+    double distances[3];
+    arena.ray_distances(pose.x, pose.y, dirs, kLaserRange, door_open, distances);
+    for (std::size_t i = 0; i < 3; ++i) out.laser[i] = distances[i];
+}
+
 // lasers, then lights culled by colour already seen and by the windows before
 // any line of sight; `blocked(index, light)` answers the sight-line question
 template <class Blocked>
@@ -50,15 +83,7 @@ void sense_with(const Arena& arena, std::span<const Light> lights, const Pose& p
     STEPSTONE_ASSERT(lights.size() <= static_cast<std::size_t>(kMaxLights));
     const double c = std::cos(pose.heading);
     const double s = std::sin(pose.heading);
-
-    // lasers at +pi/4, -pi/4 and 0: rotate the heading by the fixed angles
-    constexpr double kHalfRoot2 = 0.70710678118654752440;
-    const double dirs[3][2] = {{(c - s) * kHalfRoot2, (s + c) * kHalfRoot2},
-                               {(c + s) * kHalfRoot2, (s - c) * kHalfRoot2},
-                               {c, s}};
-    for (std::size_t i = 0; i < 3; ++i) {
-        out.laser[i] = arena.ray_distance(pose.x, pose.y, dirs[i][0], dirs[i][1], kLaserRange, state.door_open);
-    }
+    sense_lasers(arena, pose, c, s, state.door_open, out);
 
     out.light = {};
     for (std::uint32_t lit = state.lit; lit != 0; lit &= lit - 1) {
@@ -118,8 +143,16 @@ SightTable::SightTable(const Arena& arena, std::span<const Light> lights) : ligh
     if (lights.size() > static_cast<std::size_t>(kMaxLights)) {
         throw DataError(concat("a task may have at most ", kMaxLights, " lights, got ", lights.size()));
     }
+    for (std::size_t l = 0; l < lights_.size(); ++l) {
+        xs_[l] = lights_[l].x;
+        ys_[l] = lights_[l].y;
+        kinds_[static_cast<std::size_t>(lights_[l].kind)] |= 1u << l;
+    }
     const auto walls = arena.walls();
-    masks_.assign(lights_.size() * kColumns * kRows, 0);
+    constexpr std::size_t kCells = static_cast<std::size_t>(kColumns) * kRows;
+    masks_.assign((kCells + 1) * kMaxLights, 0);
+    clear_.assign(kCells + 1, 0);
+    std::fill(masks_.begin() + static_cast<std::ptrdiff_t>(kCells * kMaxLights), masks_.end(), std::uint16_t{0xffff});
     for (std::size_t l = 0; l < lights_.size(); ++l) {
         for (int row = 0; row < kRows; ++row) {
             for (int column = 0; column < kColumns; ++column) {
@@ -130,25 +163,89 @@ SightTable::SightTable(const Arena& arena, std::span<const Light> lights) : ligh
                         mask = static_cast<std::uint16_t>(mask | (1u << w));
                     }
                 }
-                masks_[(l * kRows + static_cast<std::size_t>(row)) * kColumns + static_cast<std::size_t>(column)] = mask;
+                const std::size_t cell = static_cast<std::size_t>(row) * kColumns + static_cast<std::size_t>(column);
+                masks_[cell * kMaxLights + l] = mask;
+                if (mask == 0) clear_[cell] |= 1u << l;
             }
         }
     }
 }
 
-std::uint32_t SightTable::candidates(std::size_t index, double x, double y) const {
+std::size_t SightTable::cell_index(double x, double y) const {
     const double column = std::floor(x / kCell);
     const double row = std::floor(y / kCell);
-    if (!(column >= 0.0 && column < kColumns && row >= 0.0 && row < kRows)) return ~0u;
-    return masks_[(index * kRows + static_cast<std::size_t>(row)) * kColumns + static_cast<std::size_t>(column)];
+    if (!(column >= 0.0 && column < kColumns && row >= 0.0 && row < kRows)) {
+        return static_cast<std::size_t>(kColumns) * kRows;
+    }
+    return static_cast<std::size_t>(row) * kColumns + static_cast<std::size_t>(column);
 }
 
+std::uint32_t SightTable::candidates(std::size_t index, double x, double y) const {
+    STEPSTONE_ASSERT(index < lights_.size());
+    const std::size_t cell = cell_index(x, y);
+    if (cell == static_cast<std::size_t>(kColumns) * kRows) return ~0u;
+    return masks_[cell * kMaxLights + index];
+}
+
+SightTable::Cell SightTable::cell(double x, double y) const {
+    const std::size_t index = cell_index(x, y);
+    return {masks_.data() + index * kMaxLights, clear_[index]};
+}
+
+// the hot path: the window tests of every lit light first, without branches
+// on their outcome, then per colour a clear light in a window settles the
+// sensor and only the remaining lights test their candidate walls
 void sense(const Arena& arena, const SightTable& sight, const Pose& pose, const WorldState& state,
            SensorReadings& out) {
-    sense_with(arena, sight.lights(), pose, state, out, [&](std::size_t index, const Light& light) {
-        const std::uint32_t walls = sight.candidates(index, pose.x, pose.y);
-        return walls != 0 && arena.segment_blocked_by(walls, light.x, light.y, pose.x, pose.y, state.door_open);
-    });
+    const double c = std::cos(pose.heading);
+    const double s = std::sin(pose.heading);
+    sense_lasers(arena, pose, c, s, state.door_open, out);
+
+    out.light = {};
+    const std::uint32_t lit = state.lit & ((1u << sight.lights().size()) - 1u);
+    if (lit == 0) return;
+    const auto& xs = sight.xs();
+    const auto& ys = sight.ys();
+    // the window edges' cross products for every padded slot, in a loop the
+    // compiler vectorises; their signs become the light masks below, and the
+    // lit mask drops the slots that hold no lit light
+    alignas(64) std::array<double, kMaxLights> plus_lo;
+    alignas(64) std::array<double, kMaxLights> plus_hi;
+    alignas(64) std::array<double, kMaxLights> minus_lo;
+    alignas(64) std::array<double, kMaxLights> minus_hi;
+    for (std::size_t i = 0; i < static_cast<std::size_t>(kMaxLights); ++i) {
+        const double dx = xs[i] - pose.x;
+        const double dy = ys[i] - pose.y;
+        const double u = dx * c + dy * s;
+        const double v = dy * c - dx * s;
+        plus_lo[i] = kWindows[0].lo_x * v - kWindows[0].lo_y * u;
+        plus_hi[i] = u * kWindows[0].hi_y - v * kWindows[0].hi_x;
+        minus_lo[i] = kWindows[1].lo_x * v - kWindows[1].lo_y * u;
+        minus_hi[i] = u * kWindows[1].hi_y - v * kWindows[1].hi_x;
+    }
+    const std::uint32_t plus = positive_pairs(plus_lo, plus_hi) & lit;
+    const std::uint32_t minus = positive_pairs(minus_lo, minus_hi) & lit;
+    if ((plus | minus) == 0) return;
+
+    const SightTable::Cell cell = sight.cell(pose.x, pose.y);
+    for (std::size_t kind = 0; kind < 3; ++kind) {
+        const std::uint32_t in_plus = plus & sight.kinds()[kind];
+        const std::uint32_t in_minus = minus & sight.kinds()[kind];
+        bool seen_plus = (in_plus & cell.clear) != 0;
+        bool seen_minus = (in_minus & cell.clear) != 0;
+        for (std::uint32_t rest = (in_plus | in_minus) & ~cell.clear; rest != 0; rest &= rest - 1) {
+            const int i = std::countr_zero(rest);
+            const bool p = ((in_plus >> i) & 1u) != 0;
+            const bool m = ((in_minus >> i) & 1u) != 0;
+            if (!(p && !seen_plus) && !(m && !seen_minus)) continue;
+            const auto k = static_cast<std::size_t>(i);
+            if (arena.segment_blocked_by(cell.walls[k], xs[k], ys[k], pose.x, pose.y, state.door_open)) continue;
+            seen_plus = seen_plus || p;
+            seen_minus = seen_minus || m;
+        }
+        out.light[2 * kind] = seen_plus;
+        out.light[2 * kind + 1] = seen_minus;
+    }
 }
 
 void sense(const Arena& arena, std::span<const Light> lights, const Pose& pose, const WorldState& state,

@@ -54,12 +54,22 @@ inline constexpr std::array<double, 2> kLightSensorAngles{kPi / 4, -kPi / 4};
 /// to a point of the cell (separating-axis test of the light-cell hull against
 /// each wall). Most entries are empty, so most sight lines cost nothing; the
 /// others test only their few candidates exactly. Immutable once built.
+///
+/// Laid out for sense(): the lights' coordinates as arrays, and per cell the
+/// candidate masks of every light side by side with the set of lights that
+/// no wall can hide from that cell.
 class SightTable {
 public:
     /// Side of a cell, in units.
     static constexpr double kCell = 10.0;
     static constexpr int kColumns = 60;  ///< 600 units
     static constexpr int kRows = 40;     ///< 400 units
+
+    /// One cell's view of the lights.
+    struct Cell {
+        const std::uint16_t* walls;  ///< [light]: candidate walls of its sight line
+        std::uint32_t clear;         ///< bit i set = no wall can block light i
+    };
 
     /// Throws DataError when there are more than kMaxLights lights.
     SightTable(const Arena& arena, std::span<const Light> lights);
@@ -68,10 +78,24 @@ public:
     /// Walls (bit i = arena.walls()[i]) that may block the sight line from
     /// light `index` to (x, y); every wall when (x, y) is off the grid.
     std::uint32_t candidates(std::size_t index, double x, double y) const;
+    /// Every light's candidates at (x, y); off the grid, every wall and no clear light.
+    Cell cell(double x, double y) const;
+
+    /// Light coordinates, padded to kMaxLights.
+    const std::array<double, kMaxLights>& xs() const { return xs_; }
+    const std::array<double, kMaxLights>& ys() const { return ys_; }
+    /// Lights of each LightKind (bit i = lights()[i]).
+    const std::array<std::uint32_t, 3>& kinds() const { return kinds_; }
 
 private:
+    std::size_t cell_index(double x, double y) const;
+
     std::vector<Light> lights_;
-    std::vector<std::uint16_t> masks_;  // [light][row][column]
+    std::array<double, kMaxLights> xs_{};
+    std::array<double, kMaxLights> ys_{};
+    std::array<std::uint32_t, 3> kinds_{};
+    std::vector<std::uint16_t> masks_;  // [row][column][light], stride kMaxLights; one more cell: off the grid
+    std::vector<std::uint32_t> clear_;  // [row][column], then off the grid
 };
 
 /// Readings at `pose` with the fast geometry and precomputed sight lines;
