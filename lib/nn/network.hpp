@@ -15,25 +15,41 @@ namespace stepstone::nn {
 /// of the previous step (an input -> output edge acts within the step, each
 /// hidden layer adds one step of delay).
 ///
-/// Layout: states in one contiguous float array, indexed like the genome's
-/// neurons; the incoming edges of each non-input neuron stored contiguously
-/// (source index and float weight), in the genome's connection order. A step
-/// computes every weighted sum into a second buffer, then applies the sigmoid
-/// to the whole buffer in one vectorisable loop (fast_exp).
+/// Every weighted sum runs over its incoming edges in ascending source
+/// order, in float, starting from 0; the sums go to a second buffer, then the
+/// sigmoid (fast_exp) is applied to the whole buffer in one vectorisable
+/// loop. Two layouts compute exactly these sums:
+/// - dense (small networks, the usual case): a weight matrix with one row per
+///   source neuron and the targets padded to a multiple of 8, zero where there
+///   is no edge. A step adds x_source * row to the target sums, one source
+///   after the other, across the targets in vector lanes. A missing edge adds
+///   0 * x, which leaves a float sum unchanged (states are finite), so the
+///   result is that of the edge list.
+/// - sparse (large, thin networks): the incoming edges of each target stored
+///   contiguously (source index and weight), walked one by one.
 ///
-/// Arithmetic is float, weights and scaled biases rounded once from the
-/// developed double values; sums run in the genome's connection order. The
-/// result is deterministic and equals ReferenceNetwork bit for bit.
-/// Inputs must be finite (the simulator validates its sensors).
+/// Weights and scaled biases are rounded once to float from the developed
+/// double values. Both layouts give the same bits as each other and as
+/// ReferenceNetwork, on any run and thread. Inputs must be finite (the
+/// simulator validates its sensors).
 ///
 /// A Network is a mutable evaluation state: use one per thread. Compiling is
-/// cheap (a few hundred bytes), so each evaluation can own its network.
+/// cheap (microseconds; the dense matrix is at most 128 KiB), so each
+/// evaluation can own its network.
 class Network {
 public:
+    /// How the weights are stored; `automatic` picks the faster for the shape.
+    enum class Layout : std::uint8_t { automatic, dense, sparse };
+    /// Vector instructions of the step: `automatic` uses AVX2 where the CPU
+    /// has it, `baseline` only those of the build target (SSE2 on x86-64).
+    enum class Simd : std::uint8_t { automatic, baseline };
+
     /// An empty network (no neuron); step() must not be called on it.
     Network() = default;
-    /// Compiles `genome` with the ranges and bias scale of `config`; every state is 0.
-    Network(const Genome& genome, const DnnConfig& config);
+    /// Compiles `genome` with the ranges and bias scale of `config`; every
+    /// state is 0. `layout` and `simd` only affect speed, never a result.
+    Network(const Genome& genome, const DnnConfig& config, Layout layout = Layout::automatic,
+            Simd simd = Simd::automatic);
 
     /// Sets every neuron state to 0 (nn2 init() at the start of each instance).
     void reset();
@@ -43,18 +59,39 @@ public:
 
     std::size_t input_count() const { return input_count_; }
     std::size_t output_count() const { return output_count_; }
-    std::size_t neuron_count() const { return states_.size(); }
-    std::size_t connection_count() const { return weights_.size(); }
+    std::size_t neuron_count() const { return neuron_count_; }
+    std::size_t connection_count() const { return connection_count_; }
+    /// The layout chosen at construction (dense or sparse; never automatic).
+    Layout layout() const { return layout_; }
+    /// Whether step() runs its AVX2 build (chosen at construction).
+    bool uses_avx2() const { return avx2_; }
     /// Current state of every neuron, indexed like the genome's neurons.
-    std::span<const float> states() const { return states_; }
+    std::span<const float> states() const { return {states_.data(), neuron_count_}; }
+
+    /// Targets per block of the dense layout (the padding of the target count).
+    static constexpr std::size_t kBlock = 8;
 
 private:
+    void compile_dense(const Genome& genome, const DnnConfig& config);
+    void compile_sparse(const Genome& genome, const DnnConfig& config);
+    void dense_sums();
+    void sparse_sums();
+
     std::size_t input_count_ = 0;
     std::size_t output_count_ = 0;
-    std::vector<float> states_;
-    std::vector<float> scaled_biases_;     // per non-input neuron
-    std::vector<float> sums_;              // per non-input neuron: the second buffer
-    std::vector<std::uint32_t> offsets_;   // edges of non-input neuron k: [offsets_[k], offsets_[k + 1])
+    std::size_t neuron_count_ = 0;
+    std::size_t connection_count_ = 0;
+    std::size_t padded_ = 0;               // non-input neurons rounded up to kBlock
+    Layout layout_ = Layout::dense;
+    bool avx2_ = false;
+    std::vector<float> states_;            // input_count_ + padded_: inputs, then computed neurons
+    std::vector<float> scaled_biases_;     // per non-input neuron, padded_ (padding 0)
+    std::vector<float> sums_;              // per non-input neuron, padded_: the second buffer
+    // dense: one row per input and hidden neuron (the possible sources), one
+    // column per target, stored in groups of up to 32 targets, row by row
+    std::vector<float> matrix_;
+    // sparse: edges of non-input neuron k are [offsets_[k], offsets_[k + 1])
+    std::vector<std::uint32_t> offsets_;
     std::vector<std::uint32_t> sources_;
     std::vector<float> weights_;
 };

@@ -1,5 +1,6 @@
 #include "nn/reference_network.hpp"
 
+#include <algorithm>
 #include <vector>
 
 #include "nn/activation.hpp"
@@ -22,7 +23,12 @@ ReferenceNetwork::ReferenceNetwork(const Genome& genome, const DnnConfig& config
         nodes_.push_back(Node{genome.kind(n), developed_scaled_bias(genome.biases()[n], config), 0.0f, 0.0f, {}});
         by_index.push_back(&nodes_.back());
     }
-    for (const auto& c : genome.connections()) {
+    // each neuron's incoming edges in ascending source order: the summation
+    // order that Network's layouts share
+    std::vector<Connection> edges = genome.connections();
+    std::sort(edges.begin(), edges.end(),
+              [](const Connection& a, const Connection& b) { return a.source < b.source; });
+    for (const auto& c : edges) {
         by_index[c.target]->in_edges.push_back(Edge{by_index[c.source], developed_weight(c.weight, config)});
     }
 }

@@ -12,8 +12,10 @@ namespace stepstone::nn {
 /// 8.4): one heap node per neuron in a linked list, each holding a linked list
 /// of incoming edges that point to their source node, walked every step.
 ///
-/// With `exact_exp` false it uses the same float sigmoid as Network and must
-/// equal it bit for bit (the tests' oracle). With `exact_exp` true it computes
+/// Each neuron sums its incoming edges in float, from 0, in ascending source
+/// index (not in the genome's connection order): the order that both layouts
+/// of Network compute. With `exact_exp` false it uses the same float sigmoid
+/// as Network and must equal it bit for bit (the tests' oracle). With `exact_exp` true it computes
 /// the sigmoid with std::exp in double, as nn2 does: the baseline that
 /// `stepstone bench` times Network against.
 class ReferenceNetwork {
