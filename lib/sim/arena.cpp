@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#if defined(__SSE__)
+#include <xmmintrin.h>
+#endif
 
 #include "core/assert.hpp"
 #include "sim/units.hpp"
@@ -37,6 +40,26 @@ constexpr std::array<WallBox, 11> kWalls{{
 
 // an empty slot: a box far away that no ray, segment or disc can reach
 constexpr double kFar = 1e7;
+
+// squared distance added to the radius's square for the walls contact()
+// examines in double precision; single-precision distances of points within
+// kNearRange of the origin are off by far less
+constexpr float kNearMargin = 1.0f;
+constexpr double kNearRange = 1e4;
+
+// bit k set when values[k] < limit
+std::uint32_t less_mask(const std::array<float, Arena::kSlots>& values, float limit) {
+    std::uint32_t bits = 0;
+#if defined(__SSE__)
+    const __m128 bound = _mm_set1_ps(limit);
+    for (std::size_t k = 0; k < values.size(); k += 4) {
+        bits |= static_cast<std::uint32_t>(_mm_movemask_ps(_mm_cmplt_ps(_mm_load_ps(&values[k]), bound))) << k;
+    }
+#else
+    for (std::size_t k = 0; k < values.size(); ++k) bits |= static_cast<std::uint32_t>(values[k] < limit) << k;
+#endif
+    return bits;
+}
 
 double clamp(double v, double lo, double hi) { return v < lo ? lo : (v > hi ? hi : v); }
 
@@ -141,14 +164,19 @@ void Arena::ray_distances(double x, double y, const double (&directions)[3][2], 
     const Slots& s = slots(door_open);
     const auto ox = static_cast<float>(x);
     const auto oy = static_cast<float>(y);
-    float ix[3];
-    float iy[3];
+    // the six components (x then y), made safe as ray_distance does, and
+    // their inverses in one vector loop
+    alignas(32) std::array<float, 8> component{1.0f, 1.0f, 1.0f, 1.0f, 1.0f, 1.0f, 1.0f, 1.0f};
     for (std::size_t r = 0; r < 3; ++r) {
-        const double dx = directions[r][0];
-        const double dy = directions[r][1];
-        ix[r] = 1.0f / (std::fabs(dx) < 1e-30 ? 1e-30f : static_cast<float>(dx));
-        iy[r] = 1.0f / (std::fabs(dy) < 1e-30 ? 1e-30f : static_cast<float>(dy));
+        for (std::size_t axis = 0; axis < 2; ++axis) {
+            const double d = directions[r][axis];
+            component[axis * 3 + r] = std::fabs(d) < 1e-30 ? 1e-30f : static_cast<float>(d);
+        }
     }
+    alignas(32) std::array<float, 8> inverse;
+    for (std::size_t i = 0; i < inverse.size(); ++i) inverse[i] = 1.0f / component[i];
+    const float* ix = inverse.data();
+    const float* iy = inverse.data() + 3;
     constexpr float kNone = 1e30f;
 
     // ray_distance's slab test with the offsets to each slot shared by the
@@ -213,7 +241,7 @@ bool Arena::segment_blocked_by(std::uint32_t walls, double x0, double y0, double
     return false;
 }
 
-bool Arena::disc_overlaps(double x, double y, bool door_open) const {
+Arena::Near Arena::near_slots(double x, double y, bool door_open) const {
     const Slots& s = slots(door_open);
     const auto cx = static_cast<float>(x);
     const auto cy = static_cast<float>(y);
@@ -227,19 +255,29 @@ bool Arena::disc_overlaps(double x, double y, bool door_open) const {
         ex[k] = std::max(std::max(s.x0[k] - cx, cx - s.x1[k]), 0.0f);
         ey[k] = std::max(std::max(s.y0[k] - cy, cy - s.y1[k]), 0.0f);
     }
-    int overlaps = 0;
-    for (std::size_t k = 0; k < kSlots; ++k) overlaps += ex[k] * ex[k] + ey[k] * ey[k] < r2 ? 1 : 0;
-    return overlaps != 0;
+    alignas(64) std::array<float, kSlots> d2;
+    for (std::size_t k = 0; k < kSlots; ++k) d2[k] = ex[k] * ex[k] + ey[k] * ey[k];
+    return {less_mask(d2, r2), less_mask(d2, r2 + kNearMargin)};
+}
+
+bool Arena::disc_overlaps(double x, double y, bool door_open) const {
+    return near_slots(x, y, door_open).overlap != 0;
 }
 
 Contact Arena::contact(const Pose& pose, bool door_open) const {
     Contact result;
-    if (!disc_overlaps(pose.x, pose.y, door_open)) return result;
+    const Near near = near_slots(pose.x, pose.y, door_open);
+    if (near.overlap == 0) return result;
     result.hit = true;
     const double r2 = kRobotRadius * kRobotRadius;
-    for (int i = 0; i < wall_count_ && !(result.left && result.right); ++i) {
-        if (door_open && i == door_index_) continue;
-        const WallBox& box = walls_[static_cast<std::size_t>(i)];
+    // the walls the exact test below can find within the radius: those the
+    // single-precision distances put within the margin, every wall far from
+    // the map where single precision is too coarse for the margin
+    const bool on_map = std::fabs(pose.x) < kNearRange && std::fabs(pose.y) < kNearRange;
+    std::uint32_t walls = on_map ? near.near : (1u << wall_count_) - 1u;
+    if (door_open) walls &= ~(1u << door_index_);
+    for (; walls != 0 && !(result.left && result.right); walls &= walls - 1) {
+        const WallBox& box = walls_[static_cast<std::size_t>(std::countr_zero(walls))];
         const double px = clamp(pose.x, box.x0, box.x1);
         const double py = clamp(pose.y, box.y0, box.y1);
         const double d2 = (px - pose.x) * (px - pose.x) + (py - pose.y) * (py - pose.y);

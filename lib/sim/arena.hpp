@@ -70,6 +70,12 @@ private:
         alignas(64) std::array<float, kSlots> x0, y0, x1, y1;
     };
     const Slots& slots(bool door_open) const { return door_open ? open_ : closed_; }
+    // slots (bit k) the disc at (x, y) overlaps, and those within a margin of it
+    struct Near {
+        std::uint32_t overlap;
+        std::uint32_t near;
+    };
+    Near near_slots(double x, double y, bool door_open) const;
 
     std::array<WallBox, kSlots> walls_{};
     int wall_count_ = 0;

@@ -1,10 +1,29 @@
 #include "sim/robot.hpp"
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
 
+#include "sim/cos_sin.hpp"
 #include "sim/units.hpp"
 
 namespace stepstone::sim {
+
+CosSin cos_sin(double angle) {
+    struct Memo {
+        bool valid = false;
+        std::uint64_t bits = 0;
+        CosSin value;
+    };
+    thread_local Memo memo;
+    const auto bits = std::bit_cast<std::uint64_t>(angle);
+    if (!memo.valid || memo.bits != bits) {
+        memo.value = {std::cos(angle), std::sin(angle)};
+        memo.bits = bits;
+        memo.valid = true;
+    }
+    return memo.value;
+}
 
 double normalize_angle(double angle) {
     // headings change by at most 0.2 rad per step, so one wrap is the common case
@@ -19,8 +38,9 @@ Pose move_pose(const Pose& pose, double left, double right) {
 
     // nearly equal wheels: a straight line of the left wheel's length
     if (std::fabs(alpha) <= 1e-10) {
-        next.x += left * std::cos(pose.heading);
-        next.y += left * std::sin(pose.heading);
+        const CosSin heading = cos_sin(pose.heading);
+        next.x += left * heading.c;
+        next.y += left * heading.s;
         return next;
     }
 

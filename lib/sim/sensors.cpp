@@ -10,6 +10,7 @@
 #include "core/assert.hpp"
 #include "core/error.hpp"
 #include "core/text.hpp"
+#include "sim/cos_sin.hpp"
 #include "sim/units.hpp"
 
 namespace stepstone::sim {
@@ -81,8 +82,9 @@ template <class Blocked>
 void sense_with(const Arena& arena, std::span<const Light> lights, const Pose& pose, const WorldState& state,
                 SensorReadings& out, Blocked&& blocked) {
     STEPSTONE_ASSERT(lights.size() <= static_cast<std::size_t>(kMaxLights));
-    const double c = std::cos(pose.heading);
-    const double s = std::sin(pose.heading);
+    const CosSin heading = cos_sin(pose.heading);
+    const double c = heading.c;
+    const double s = heading.s;
     sense_lasers(arena, pose, c, s, state.door_open, out);
 
     out.light = {};
@@ -137,6 +139,33 @@ bool hull_meets(const Light& light, double cx0, double cy0, double cx1, double c
     return true;
 }
 
+// true when the segment from the light to each corner of the cell crosses
+// the wall shrunk by kHiddenMargin: then every segment from the light to the
+// cell crosses the wall itself, deep enough for the slab test's rounding
+bool hides(const Light& light, double cx0, double cy0, double cx1, double cy1, const WallBox& wall) {
+    constexpr double m = SightTable::kHiddenMargin;
+    const double x0 = wall.x0 + m;
+    const double y0 = wall.y0 + m;
+    const double x1 = wall.x1 - m;
+    const double y1 = wall.y1 - m;
+    if (!(x0 < x1 && y0 < y1)) return false;
+    for (const double px : {cx0, cx1}) {
+        for (const double py : {cy0, cy1}) {
+            const double dx = px - light.x;
+            const double dy = py - light.y;
+            if (dx == 0.0 || dy == 0.0) return false;  // the slab form below needs both
+            const double tx0 = (x0 - light.x) / dx;
+            const double tx1 = (x1 - light.x) / dx;
+            const double ty0 = (y0 - light.y) / dy;
+            const double ty1 = (y1 - light.y) / dy;
+            const double enter = std::max(std::min(tx0, tx1), std::min(ty0, ty1));
+            const double leave = std::min(std::max(tx0, tx1), std::max(ty0, ty1));
+            if (!(enter <= leave && leave >= 0.0 && enter <= 1.0)) return false;
+        }
+    }
+    return true;
+}
+
 }  // namespace
 
 SightTable::SightTable(const Arena& arena, std::span<const Light> lights) : lights_(lights.begin(), lights.end()) {
@@ -151,7 +180,7 @@ SightTable::SightTable(const Arena& arena, std::span<const Light> lights) : ligh
     const auto walls = arena.walls();
     constexpr std::size_t kCells = static_cast<std::size_t>(kColumns) * kRows;
     masks_.assign((kCells + 1) * kMaxLights, 0);
-    clear_.assign(kCells + 1, 0);
+    summaries_.assign(kCells + 1, Summary{});
     std::fill(masks_.begin() + static_cast<std::ptrdiff_t>(kCells * kMaxLights), masks_.end(), std::uint16_t{0xffff});
     for (std::size_t l = 0; l < lights_.size(); ++l) {
         for (int row = 0; row < kRows; ++row) {
@@ -165,7 +194,20 @@ SightTable::SightTable(const Arena& arena, std::span<const Light> lights) : ligh
                 }
                 const std::size_t cell = static_cast<std::size_t>(row) * kColumns + static_cast<std::size_t>(column);
                 masks_[cell * kMaxLights + l] = mask;
-                if (mask == 0) clear_[cell] |= 1u << l;
+                Summary& summary = summaries_[cell];
+                if (mask == 0) summary.clear |= 1u << l;
+                for (std::uint32_t rest = mask; rest != 0; rest &= rest - 1) {
+                    const auto w = static_cast<std::size_t>(std::countr_zero(rest));
+                    if (!hides(lights_[l], column * kCell, row * kCell, (column + 1) * kCell, (row + 1) * kCell,
+                               walls[w])) {
+                        continue;
+                    }
+                    if (static_cast<int>(w) == arena.door_index()) {
+                        summary.hidden_by_door |= 1u << l;
+                    } else {
+                        summary.hidden_by_fixed |= 1u << l;
+                    }
+                }
             }
         }
     }
@@ -187,18 +229,22 @@ std::uint32_t SightTable::candidates(std::size_t index, double x, double y) cons
     return masks_[cell * kMaxLights + index];
 }
 
-SightTable::Cell SightTable::cell(double x, double y) const {
+SightTable::Cell SightTable::cell(double x, double y, bool door_open) const {
     const std::size_t index = cell_index(x, y);
-    return {masks_.data() + index * kMaxLights, clear_[index]};
+    const Summary& summary = summaries_[index];
+    const std::uint32_t hidden = summary.hidden_by_fixed | (door_open ? 0u : summary.hidden_by_door);
+    return {masks_.data() + index * kMaxLights, summary.clear, hidden};
 }
 
 // the hot path: the window tests of every lit light first, without branches
 // on their outcome, then per colour a clear light in a window settles the
-// sensor and only the remaining lights test their candidate walls
+// sensor, hidden lights are dropped, and only the remaining lights test their
+// candidate walls
 void sense(const Arena& arena, const SightTable& sight, const Pose& pose, const WorldState& state,
            SensorReadings& out) {
-    const double c = std::cos(pose.heading);
-    const double s = std::sin(pose.heading);
+    const CosSin heading = cos_sin(pose.heading);
+    const double c = heading.c;
+    const double s = heading.s;
     sense_lasers(arena, pose, c, s, state.door_open, out);
 
     out.light = {};
@@ -227,13 +273,13 @@ void sense(const Arena& arena, const SightTable& sight, const Pose& pose, const 
     const std::uint32_t minus = positive_pairs(minus_lo, minus_hi) & lit;
     if ((plus | minus) == 0) return;
 
-    const SightTable::Cell cell = sight.cell(pose.x, pose.y);
+    const SightTable::Cell cell = sight.cell(pose.x, pose.y, state.door_open);
     for (std::size_t kind = 0; kind < 3; ++kind) {
         const std::uint32_t in_plus = plus & sight.kinds()[kind];
         const std::uint32_t in_minus = minus & sight.kinds()[kind];
         bool seen_plus = (in_plus & cell.clear) != 0;
         bool seen_minus = (in_minus & cell.clear) != 0;
-        for (std::uint32_t rest = (in_plus | in_minus) & ~cell.clear; rest != 0; rest &= rest - 1) {
+        for (std::uint32_t rest = (in_plus | in_minus) & ~(cell.clear | cell.hidden); rest != 0; rest &= rest - 1) {
             const int i = std::countr_zero(rest);
             const bool p = ((in_plus >> i) & 1u) != 0;
             const bool m = ((in_minus >> i) & 1u) != 0;

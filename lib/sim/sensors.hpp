@@ -57,18 +57,24 @@ inline constexpr std::array<double, 2> kLightSensorAngles{kPi / 4, -kPi / 4};
 ///
 /// Laid out for sense(): the lights' coordinates as arrays, and per cell the
 /// candidate masks of every light side by side with the set of lights that
-/// no wall can hide from that cell.
+/// no wall can hide from that cell and the set that a wall hides from all of
+/// it (every light-corner segment crosses the wall shrunk by kHiddenMargin;
+/// the points whose segments cross a convex box form a convex set, so the
+/// whole cell's do, with a margin far above rounding).
 class SightTable {
 public:
     /// Side of a cell, in units.
     static constexpr double kCell = 10.0;
     static constexpr int kColumns = 60;  ///< 600 units
     static constexpr int kRows = 40;     ///< 400 units
+    /// Depth, in units, by which a hiding wall's box is shrunk for the test.
+    static constexpr double kHiddenMargin = 0.01;
 
     /// One cell's view of the lights.
     struct Cell {
         const std::uint16_t* walls;  ///< [light]: candidate walls of its sight line
         std::uint32_t clear;         ///< bit i set = no wall can block light i
+        std::uint32_t hidden;        ///< bit i set = a wall blocks light i from every point of the cell
     };
 
     /// Throws DataError when there are more than kMaxLights lights.
@@ -78,8 +84,9 @@ public:
     /// Walls (bit i = arena.walls()[i]) that may block the sight line from
     /// light `index` to (x, y); every wall when (x, y) is off the grid.
     std::uint32_t candidates(std::size_t index, double x, double y) const;
-    /// Every light's candidates at (x, y); off the grid, every wall and no clear light.
-    Cell cell(double x, double y) const;
+    /// Every light's candidates at (x, y) with the door open or closed; off
+    /// the grid, every wall and no clear or hidden light.
+    Cell cell(double x, double y, bool door_open) const;
 
     /// Light coordinates, padded to kMaxLights.
     const std::array<double, kMaxLights>& xs() const { return xs_; }
@@ -95,7 +102,12 @@ private:
     std::array<double, kMaxLights> ys_{};
     std::array<std::uint32_t, 3> kinds_{};
     std::vector<std::uint16_t> masks_;  // [row][column][light], stride kMaxLights; one more cell: off the grid
-    std::vector<std::uint32_t> clear_;  // [row][column], then off the grid
+    struct Summary {
+        std::uint32_t clear = 0;
+        std::uint32_t hidden_by_fixed = 0;  // by a wall other than the door
+        std::uint32_t hidden_by_door = 0;   // by the closed door
+    };
+    std::vector<Summary> summaries_;  // [row][column], then off the grid
 };
 
 /// Readings at `pose` with the fast geometry and precomputed sight lines;

@@ -1,0 +1,106 @@
+#include <catch2/catch.hpp>
+
+#include <bit>
+#include <cmath>
+#include <cstdint>
+
+#include "core/rng.hpp"
+#include "sim/arena.hpp"
+#include "sim/cos_sin.hpp"
+#include "sim/sensors.hpp"
+#include "sim/task.hpp"
+#include "sim/units.hpp"
+
+using namespace stepstone::sim;
+
+// The hot path's shortcuts must never change an answer: each is checked
+// against the plain query it replaces, bit for bit.
+
+TEST_CASE("three rays at once read exactly what three single rays read", "[sim][arena][fast]") {
+    const Arena arena;
+    stepstone::Rng rng(7);
+    for (int i = 0; i < 20'000; ++i) {
+        const double x = rng.uniform(-20.0, 620.0);
+        const double y = rng.uniform(-20.0, 420.0);
+        double directions[3][2];
+        for (auto& d : directions) {
+            // every fourth ray along an axis: the zero-component guard
+            const double a = i % 4 == 0 ? static_cast<double>(rng.below(4)) * kPi / 2 : rng.uniform(-kPi, kPi);
+            d[0] = std::cos(a);
+            d[1] = std::sin(a);
+            if (i % 4 == 0) d[static_cast<std::size_t>(rng.below(2))] = 0.0;
+        }
+        const bool door_open = rng.bernoulli(0.5);
+        double together[3];
+        arena.ray_distances(x, y, directions, kLaserRange, door_open, together);
+        for (std::size_t r = 0; r < 3; ++r) {
+            const double alone = arena.ray_distance(x, y, directions[r][0], directions[r][1], kLaserRange, door_open);
+            REQUIRE(std::bit_cast<std::uint64_t>(together[r]) == std::bit_cast<std::uint64_t>(alone));
+        }
+    }
+}
+
+TEST_CASE("sight-table cells: clear lights are never blocked, hidden lights always are", "[sim][sensors][fast]") {
+    for (const TaskKind kind : {TaskKind::source, TaskKind::target}) {
+        TaskConfig config;
+        config.kind = kind;
+        const auto task = make_task(config);
+        const Arena& arena = task->arena();
+        const SightTable& sight = task->sight();
+        const auto lights = sight.lights();
+        stepstone::Rng rng(11);
+        int hidden = 0;
+        int clear = 0;
+        for (int i = 0; i < 50'000; ++i) {
+            const double x = rng.uniform(0.0, 600.0);
+            const double y = rng.uniform(0.0, 400.0);
+            const bool door_open = rng.bernoulli(0.5);
+            const SightTable::Cell cell = sight.cell(x, y, door_open);
+            REQUIRE((cell.clear & cell.hidden) == 0u);
+            for (std::size_t l = 0; l < lights.size(); ++l) {
+                const bool blocked = arena.segment_blocked(lights[l].x, lights[l].y, x, y, door_open);
+                if ((cell.hidden >> l) & 1u) {
+                    ++hidden;
+                    REQUIRE(blocked);
+                }
+                if ((cell.clear >> l) & 1u) {
+                    ++clear;
+                    REQUIRE_FALSE(blocked);
+                }
+                REQUIRE(cell.walls[l] == sight.candidates(l, x, y));
+            }
+        }
+        // both shortcuts matter: each settles a good share of the sight lines
+        CHECK(hidden > 50'000);
+        CHECK(clear > 50'000);
+    }
+}
+
+TEST_CASE("the heading memo gives std::cos and std::sin bit for bit", "[sim][robot][fast]") {
+    stepstone::Rng rng(3);
+    for (int i = 0; i < 10'000; ++i) {
+        const double angle = i % 3 == 0 ? 0.0 : rng.uniform(-4.0, 4.0);
+        for (int repeat = 0; repeat < 2; ++repeat) {
+            const CosSin v = cos_sin(angle);
+            REQUIRE(std::bit_cast<std::uint64_t>(v.c) == std::bit_cast<std::uint64_t>(std::cos(angle)));
+            REQUIRE(std::bit_cast<std::uint64_t>(v.s) == std::bit_cast<std::uint64_t>(std::sin(angle)));
+        }
+    }
+    // -0 and +0 have the same cosine but sines of opposite signs
+    CHECK(std::signbit(cos_sin(0.0).s) == false);
+    CHECK(std::signbit(cos_sin(-0.0).s) == true);
+}
+
+TEST_CASE("contact far off the map falls back to every wall and agrees with the overlap test", "[sim][arena][fast]") {
+    const Arena arena;
+    stepstone::Rng rng(5);
+    for (int i = 0; i < 20'000; ++i) {
+        const Pose pose{rng.uniform(-30.0, 630.0), rng.uniform(-30.0, 430.0), rng.uniform(-kPi, kPi)};
+        const bool door_open = rng.bernoulli(0.5);
+        REQUIRE(arena.contact(pose, door_open).hit == arena.disc_overlaps(pose.x, pose.y, door_open));
+    }
+    const Contact far = arena.contact(Pose{2e4, 2e4, 0.0}, false);
+    CHECK_FALSE(far.hit);
+    CHECK_FALSE(far.left);
+    CHECK_FALSE(far.right);
+}
