@@ -164,19 +164,14 @@ void Arena::ray_distances(double x, double y, const double (&directions)[3][2], 
     const Slots& s = slots(door_open);
     const auto ox = static_cast<float>(x);
     const auto oy = static_cast<float>(y);
-    // the six components (x then y), made safe as ray_distance does, and
-    // their inverses in one vector loop
-    alignas(32) std::array<float, 8> component{1.0f, 1.0f, 1.0f, 1.0f, 1.0f, 1.0f, 1.0f, 1.0f};
+    float ix[3];
+    float iy[3];
     for (std::size_t r = 0; r < 3; ++r) {
-        for (std::size_t axis = 0; axis < 2; ++axis) {
-            const double d = directions[r][axis];
-            component[axis * 3 + r] = std::fabs(d) < 1e-30 ? 1e-30f : static_cast<float>(d);
-        }
+        const double dx = directions[r][0];
+        const double dy = directions[r][1];
+        ix[r] = 1.0f / (std::fabs(dx) < 1e-30 ? 1e-30f : static_cast<float>(dx));
+        iy[r] = 1.0f / (std::fabs(dy) < 1e-30 ? 1e-30f : static_cast<float>(dy));
     }
-    alignas(32) std::array<float, 8> inverse;
-    for (std::size_t i = 0; i < inverse.size(); ++i) inverse[i] = 1.0f / component[i];
-    const float* ix = inverse.data();
-    const float* iy = inverse.data() + 3;
     constexpr float kNone = 1e30f;
 
     // ray_distance's slab test with the offsets to each slot shared by the
