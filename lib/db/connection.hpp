@@ -24,7 +24,7 @@ enum class OpenMode {
 class Statement;
 
 /// An open SQLite connection (RAII). Foreign keys are on and a busy timeout is
-/// set; writable connections use WAL. Every failure throws DatabaseError
+/// set (WAL is chosen per file: db/database.hpp). Every failure throws DatabaseError
 /// whose message starts with the file name. Not thread-safe: one per thread.
 class Connection {
 public:

@@ -160,9 +160,22 @@ Connection open_database(const fs::path& path, OpenMode mode, bool allow_older) 
         }
         return connection;
     }
-    connection.exec("PRAGMA journal_mode = WAL; PRAGMA synchronous = NORMAL");
+    // the journal mode is left as the file has it until the caller starts writing
+    connection.exec("PRAGMA synchronous = NORMAL");
     migrate(connection);
     return connection;
+}
+
+void start_writing(Connection& connection) {
+    connection.exec("PRAGMA journal_mode = WAL");
+}
+
+void finish_writing(Connection& connection) {
+    try {
+        connection.exec("PRAGMA journal_mode = DELETE");
+    } catch (const DatabaseError&) {
+        // a reader holds the file: it stays in WAL mode, which is still correct
+    }
 }
 
 void check_output_path(const fs::path& path, bool force) {
@@ -206,7 +219,8 @@ OutputDatabase::~OutputDatabase() {
 }
 
 void OutputDatabase::commit() {
-    // closing the last connection checkpoints and removes the WAL file
+    // a finished output is not written again: no WAL, so readers leave no files beside it
+    finish_writing(connection_);
     connection_.close();
     std::error_code ec;
     fs::rename(temp_, path_, ec);

@@ -52,6 +52,17 @@ Connection open_database(const std::filesystem::path& path, OpenMode mode, bool 
 /// transaction. Returns the number applied.
 int migrate(Connection& connection);
 
+/// Switches a file to WAL mode before a long series of writes (evolve): readers
+/// then never block the writer. read_write opens leave the journal mode as the
+/// file has it, so a command that refuses its input after opening it has not
+/// changed a byte.
+void start_writing(Connection& connection);
+
+/// Leaves WAL mode for a finished file (no writer expected any more): readers
+/// opening it read-only then need no -wal / -shm files beside it. Does
+/// nothing if another connection holds the file (the switch needs it alone).
+void finish_writing(Connection& connection);
+
 /// Application id and schema version of an open connection.
 DatabaseInfo database_info(Connection& connection);
 

@@ -373,6 +373,7 @@ EvolveSummary run_evolve(const EvolveOptions& options) {
         }
         if (!options.generations) config.ea.generations = run.generations;
     }
+    db::start_writing(connection);
     const std::uint64_t seed = static_cast<std::uint64_t>(run.seed);
 
     Evolution evolution(config, seed, options.threads);
@@ -405,6 +406,7 @@ EvolveSummary run_evolve(const EvolveOptions& options) {
     }
     run.status = "finished";
     update_run(connection, run);
+    db::finish_writing(connection);
     if (!summary.was_finished) progress.finish();
 
     summary.generations_done = run.generations_done;

@@ -128,3 +128,20 @@ TEST_CASE("an output database appears only when committed", "[db][output]") {
     CHECK_THROWS_WITH(db::OutputDatabase(out, false), Contains("out.db: already exists (use --force to overwrite)"));
     CHECK_NOTHROW(db::OutputDatabase(out, true));
 }
+
+TEST_CASE("reading a finished output read-only leaves no file beside it", "[db][output]") {
+    test::TempDir dir;
+    {
+        db::OutputDatabase output(dir / "out.db", false);
+        db::set_meta_value(output.connection(), "x", "1");
+        output.commit();
+    }
+    {
+        auto connection = db::open_database(dir / "out.db", db::OpenMode::read_only);
+        CHECK(db::meta_value(connection, "x") == "1");
+    }
+    // only the database itself: no -wal or -shm left by the reader
+    std::size_t files = 0;
+    for ([[maybe_unused]] const auto& entry : std::filesystem::directory_iterator(dir.path())) ++files;
+    CHECK(files == 1);
+}
