@@ -5,6 +5,8 @@
 #include <numeric>
 #include <utility>
 
+#include <Eigen/Eigenvalues>
+
 #include "core/assert.hpp"
 
 namespace stepstone::kb {
@@ -12,47 +14,7 @@ namespace stepstone::kb {
 namespace {
 
 constexpr std::size_t kMaxSample = 4096;
-constexpr int kMaxSweeps = 60;
 constexpr double kOrthonormalTolerance = 1e-12;
-
-// eigenvalues (diagonal of `a` on return) and eigenvectors (columns of `v`)
-// of the symmetric n x n matrix `a`, by cyclic Jacobi rotations
-void jacobi(std::vector<double>& a, std::vector<double>& v, std::size_t n) {
-    v.assign(n * n, 0.0);
-    for (std::size_t i = 0; i < n; ++i) v[i * n + i] = 1.0;
-    for (int sweep = 0; sweep < kMaxSweeps; ++sweep) {
-        double off = 0.0, diag = 0.0;
-        for (std::size_t p = 0; p < n; ++p) {
-            diag += a[p * n + p] * a[p * n + p];
-            for (std::size_t q = p + 1; q < n; ++q) off += a[p * n + q] * a[p * n + q];
-        }
-        if (off <= 1e-30 * diag || off == 0.0) return;
-        for (std::size_t p = 0; p < n; ++p) {
-            for (std::size_t q = p + 1; q < n; ++q) {
-                const double apq = a[p * n + q];
-                if (apq == 0.0) continue;
-                const double theta = (a[q * n + q] - a[p * n + p]) / (2.0 * apq);
-                const double t = (theta >= 0 ? 1.0 : -1.0) / (std::fabs(theta) + std::sqrt(theta * theta + 1.0));
-                const double c = 1.0 / std::sqrt(t * t + 1.0), s = t * c;
-                for (std::size_t k = 0; k < n; ++k) {  // columns p, q
-                    const double akp = a[k * n + p], akq = a[k * n + q];
-                    a[k * n + p] = c * akp - s * akq;
-                    a[k * n + q] = s * akp + c * akq;
-                }
-                for (std::size_t k = 0; k < n; ++k) {  // rows p, q
-                    const double apk = a[p * n + k], aqk = a[q * n + k];
-                    a[p * n + k] = c * apk - s * aqk;
-                    a[q * n + k] = s * apk + c * aqk;
-                }
-                for (std::size_t k = 0; k < n; ++k) {
-                    const double vkp = v[k * n + p], vkq = v[k * n + q];
-                    v[k * n + p] = c * vkp - s * vkq;
-                    v[k * n + q] = s * vkp + c * vkq;
-                }
-            }
-        }
-    }
-}
 
 // modified Gram-Schmidt over the rows, twice; a row that vanishes is left 0
 void orthonormalise(std::vector<double>& rows, std::size_t count, std::size_t n) {
@@ -116,15 +78,17 @@ Projection Projection::principal(const float* points, std::size_t count, std::si
     for (std::size_t r = 0; r < in; ++r)
         for (std::size_t c = 0; c < r; ++c) cov[r * in + c] = cov[c * in + r];
 
-    std::vector<double> vectors;
-    jacobi(cov, vectors, in);
-    std::vector<std::size_t> order(in);
-    std::iota(order.begin(), order.end(), std::size_t{0});
-    std::stable_sort(order.begin(), order.end(),
-                     [&](std::size_t a, std::size_t b) { return cov[a * in + a] > cov[b * in + b]; });
+    // eigenvectors by decreasing eigenvalue (Eigen returns them increasing)
+    const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> matrix(
+        cov.data(), static_cast<Eigen::Index>(in), static_cast<Eigen::Index>(in));
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> solver(matrix);
+    if (solver.info() != Eigen::Success) return fallback;
+    const Eigen::MatrixXd& vectors = solver.eigenvectors();
     std::vector<double> rows(out * in);
-    for (std::size_t r = 0; r < out; ++r)
-        for (std::size_t k = 0; k < in; ++k) rows[r * in + k] = vectors[k * in + order[r]];
+    for (std::size_t r = 0; r < out; ++r) {
+        const auto column = static_cast<Eigen::Index>(in - 1 - r);
+        for (std::size_t k = 0; k < in; ++k) rows[r * in + k] = vectors(static_cast<Eigen::Index>(k), column);
+    }
     orthonormalise(rows, out, in);
     Projection p(in, out, std::move(rows));
     if (!(p.orthonormality_error() <= kOrthonormalTolerance)) return fallback;

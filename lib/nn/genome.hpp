@@ -33,8 +33,9 @@ struct Connection {
 ///
 /// Neurons are numbered inputs first, then outputs, then hidden neurons;
 /// removing a hidden neuron renumbers the later ones. Connections keep their
-/// insertion order, which fixes the summation order of the networks built
-/// from the genome. Invariants: no connection into an input, none out of an
+/// insertion order, which fixes the order of random edge picks in mutation;
+/// networks sum a neuron's inputs in ascending source order whatever the
+/// connection order. Invariants: no connection into an input, none out of an
 /// output, at most one connection per ordered pair. Editing methods check
 /// them with STEPSTONE_ASSERT; from_json checks them with exceptions.
 class Genome {
