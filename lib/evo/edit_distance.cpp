@@ -16,21 +16,22 @@ inline float min3(float a, float b, float c) {
     return c < ab ? c : ab;
 }
 
-// eight lanes: two SSE2 operations each in the default build, one in the AVX2 clone
-typedef float V8 __attribute__((vector_size(32)));
-typedef std::int32_t M8 __attribute__((vector_size(32)));
+// four float lanes with GCC's vector extensions (plain SSE2, no ABI change)
+typedef float V4 __attribute__((vector_size(16)));
+typedef std::int32_t M4 __attribute__((vector_size(16)));
 
-inline V8 load8(const float* p) {
-    V8 v;
+inline V4 load(const float* p) {
+    V4 v;
     std::memcpy(&v, p, sizeof v);
     return v;
 }
 
-inline void store8(float* p, V8 v) { std::memcpy(p, &v, sizeof v); }
+inline void store(float* p, V4 v) { std::memcpy(p, &v, sizeof v); }
 
-inline V8 vmin8(V8 a, V8 b) { return b < a ? b : a; }
+// the same selection as min3, lane by lane
+inline V4 vmin(V4 a, V4 b) { return b < a ? b : a; }
 
-inline V8 vabs8(V8 a) { return std::bit_cast<V8>(std::bit_cast<M8>(a) & 0x7fffffff); }
+inline V4 vabs(V4 a) { return std::bit_cast<V4>(std::bit_cast<M4>(a) & 0x7fffffff); }
 
 }  // namespace
 
@@ -82,13 +83,10 @@ float edit_distance_full_table(std::span<const GridCell> a, std::span<const Grid
     return table[n][m];
 }
 
-// the same code is also built for AVX2 and picked at load time (no fused
-// multiply-add in either: -ffp-contract=off), so both give the same bits
-[[gnu::target_clones("avx2", "default")]] void EditDistanceBatch::run(std::span<const GridCell* const> first,
-                                                                     std::span<const GridCell* const> second,
-                                                                     std::size_t length, float* out) {
+void EditDistanceBatch::run(std::span<const GridCell* const> first, std::span<const GridCell* const> second,
+                            std::size_t length, float* out) {
     constexpr std::size_t L = kLanes;
-    static_assert(L % 8 == 0);
+    static_assert(L % 4 == 0);
     const std::size_t count = first.size();
     STEPSTONE_ASSERT(count == second.size() && count >= 1 && count <= L);
     const std::size_t n = length;
@@ -142,17 +140,16 @@ float edit_distance_full_table(std::span<const GridCell> a, std::span<const Grid
             const float* cost_up = &previous_cost[j * L];
             float* cell = &current[j * L];
             float* cost_out = &current_cost[j * L];
-            // eight lanes per vector; the swap test is a mask, not a branch
+            // four lanes per SSE vector; the swap test is a mask, not a branch
             const float swap_blocked = i > 1 && j > 1 ? 0.0f : 1.0f;
-            for (std::size_t g = 0; g < L; g += 8) {
-                const V8 cost =
-                    (vabs8(load8(ax + g) - load8(bx + g)) + vabs8(load8(ay + g) - load8(by + g))) / kGridTiles;
-                const V8 d = vmin8(vmin8(load8(up + g) + 1.0f, load8(left + g) + 1.0f), load8(diagonal + g) + cost);
+            for (std::size_t g = 0; g < L; g += 4) {
+                const V4 cost = (vabs(load(ax + g) - load(bx + g)) + vabs(load(ay + g) - load(by + g))) / kGridTiles;
+                const V4 d = vmin(vmin(load(up + g) + 1.0f, load(left + g) + 1.0f), load(diagonal + g) + cost);
                 // a[i-1] == b[j-2] and a[i-2] == b[j-1] are zero costs of the neighbours
-                const V8 swapped = load8(far + g) + cost;
-                const M8 swap = (load8(cost_left + g) + load8(cost_up + g) + swap_blocked == 0.0f) & (swapped < d);
-                store8(cell + g, swap ? swapped : d);
-                store8(cost_out + g, cost);
+                const V4 swapped = load(far + g) + cost;
+                const M4 swap = (load(cost_left + g) + load(cost_up + g) + swap_blocked == 0.0f) & (swapped < d);
+                store(cell + g, swap ? swapped : d);
+                store(cost_out + g, cost);
             }
         }
         std::swap(before, previous);
