@@ -189,13 +189,28 @@ void check_output_path(const fs::path& path, bool force) {
 
 namespace {
 
+// the journal files SQLite may keep beside a database
+constexpr const char* kJournalSuffixes[] = {"-wal", "-shm", "-journal"};
+
+void remove_journals(const fs::path& path) {
+    std::error_code ec;
+    for (const char* suffix : kJournalSuffixes) fs::remove(fs::path(path.string() + suffix), ec);
+}
+
+}  // namespace
+
+void remove_database_files(const fs::path& path) {
+    std::error_code ec;
+    fs::remove(path, ec);
+    remove_journals(path);
+}
+
+namespace {
+
 fs::path temp_name_for(const fs::path& path) {
     fs::path temp = path.parent_path() / concat('.', path.filename().string(), ".tmp-", ::getpid());
     // a stale temp file from a crashed process with the same pid is ours to replace
-    std::error_code ec;
-    for (const char* suffix : {"", "-wal", "-shm", "-journal"}) {
-        fs::remove(fs::path(temp.string() + suffix), ec);
-    }
+    remove_database_files(temp);
     return temp;
 }
 
@@ -212,16 +227,15 @@ OutputDatabase::~OutputDatabase() {
         connection_.close();
     } catch (...) {
     }
-    std::error_code ec;
-    for (const char* suffix : {"", "-wal", "-shm", "-journal"}) {
-        fs::remove(fs::path(temp_.string() + suffix), ec);
-    }
+    remove_database_files(temp_);
 }
 
 void OutputDatabase::commit() {
     // a finished output is not written again: no WAL, so readers leave no files beside it
     finish_writing(connection_);
     connection_.close();
+    // journals of a replaced file (--force) must not be applied to the new one
+    remove_journals(path_);
     std::error_code ec;
     fs::rename(temp_, path_, ec);
     if (ec) throw DatabaseError(concat(path_.string(), ": cannot move the output into place: ", ec.message()));

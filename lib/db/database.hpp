@@ -68,7 +68,8 @@ DatabaseInfo database_info(Connection& connection);
 
 /// A new database written under a temporary name in the target's folder and
 /// renamed over `path` by commit(): a crash or an exception leaves no partial
-/// output. An existing `path` is refused unless `force`.
+/// output. An existing `path` is refused unless `force`; when it is replaced,
+/// its journal files go too, so they are never applied to the new file.
 class OutputDatabase {
 public:
     OutputDatabase(const std::filesystem::path& path, bool force);
@@ -86,6 +87,10 @@ private:
     Connection connection_;
     bool committed_ = false;
 };
+
+/// Removes a database file and the journal files beside it (-wal, -shm,
+/// -journal); missing files are not an error.
+void remove_database_files(const std::filesystem::path& path);
 
 /// Refuses (ConfigError) an existing output path unless `force`.
 void check_output_path(const std::filesystem::path& path, bool force);

@@ -323,13 +323,6 @@ kb::KbParams kb_params(const KbConfig& config) {
     return params;
 }
 
-void remove_database_files(const std::filesystem::path& path) {
-    std::error_code ec;
-    for (const char* suffix : {"", "-wal", "-shm", "-journal"}) {
-        std::filesystem::remove(std::filesystem::path(path.string() + suffix), ec);
-    }
-}
-
 }  // namespace
 
 EvolveSummary run_evolve(const EvolveOptions& options) {
@@ -341,13 +334,10 @@ EvolveSummary run_evolve(const EvolveOptions& options) {
 
     db::Connection connection = [&] {
         if (options.resume) return db::open_database(options.db_path, db::OpenMode::read_write);
-        db::check_output_path(options.db_path, options.force);
-        if (!config.seed) config.seed = fresh_seed() >> 1;
         // the run row is written under a temporary name and moved into place whole
         {
-            const auto temp = options.db_path.string() + ".new";
-            remove_database_files(temp);
-            db::OutputDatabase output(temp, true);
+            db::OutputDatabase output(options.db_path, options.force);
+            if (!config.seed) config.seed = fresh_seed() >> 1;
             RunRecord run;
             run.task = std::string(sim::to_string(config.task.kind));
             run.seed = static_cast<std::int64_t>(*config.seed);
@@ -356,8 +346,6 @@ EvolveSummary run_evolve(const EvolveOptions& options) {
             insert_run(output.connection(), run, STEPSTONE_VERSION);
             if (config.kb) db::insert_kb(output.connection(), "run", kb::KnowledgeBase(kb_params(*config.kb)));
             output.commit();
-            if (options.force) remove_database_files(options.db_path);
-            std::filesystem::rename(temp, options.db_path);
         }
         return db::open_database(options.db_path, db::OpenMode::read_write);
     }();

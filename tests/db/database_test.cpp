@@ -145,3 +145,20 @@ TEST_CASE("reading a finished output read-only leaves no file beside it", "[db][
     for ([[maybe_unused]] const auto& entry : std::filesystem::directory_iterator(dir.path())) ++files;
     CHECK(files == 1);
 }
+
+TEST_CASE("replacing an output with force drops the old file's journals", "[db][output]") {
+    test::TempDir dir;
+    const auto out = dir / "out.db";
+    test::make_stepstone_db(out);
+    // a journal left by the replaced file must not be applied to the new one
+    test::write_file(dir / "out.db-wal", "stale journal of the old file");
+    {
+        db::OutputDatabase output(out, true);
+        db::set_meta_value(output.connection(), "new", "1");
+        output.commit();
+    }
+    CHECK(!std::filesystem::exists(dir / "out.db-wal"));
+    auto connection = db::open_database(out, db::OpenMode::read_only);
+    CHECK(db::meta_value(connection, "new") == "1");
+    CHECK(db::meta_value(connection, "key0").empty());
+}
