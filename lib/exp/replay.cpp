@@ -18,9 +18,8 @@ struct ReplaySetup::Impl {
 ReplaySetup prepare_replay(const std::filesystem::path& db_path, const std::string& individual) {
     auto connection = db::open_database(db_path, db::OpenMode::read_only);
     const RunRecord run = load_run(connection);
-    // the stored config is complete, so it parses with today's defaults ignored
-    nlohmann::json config_json = run.config;
-    const EvolveConfig config = EvolveConfig::from_json(config_json, db_path.filename().string() + " (stored config)");
+    // the stored config names every value, so no default of this program enters the replay
+    const EvolveConfig config = EvolveConfig::from_json(run.config, db_path.filename().string() + " (stored config)");
 
     StoredGenome stored;
     if (individual == "best") {
