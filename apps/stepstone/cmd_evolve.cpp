@@ -19,6 +19,9 @@ struct EvolveFlags {
     int generations = -1;
     unsigned threads = 0;
     std::string retain;
+    std::string kb;
+    std::string kb_name;
+    std::string treatment;
     bool resume = false;
     bool allow_config_change = false;
     bool force = false;
@@ -33,6 +36,9 @@ void run_evolve_command(const EvolveFlags& flags) {
     if (flags.generations >= 0) options.generations = flags.generations;
     if (flags.retain == "all") options.retain = exp::Retain::all;
     if (flags.retain == "front") options.retain = exp::Retain::front;
+    if (!flags.kb.empty()) options.kb = flags.kb;
+    if (!flags.kb_name.empty()) options.kb_name = flags.kb_name;
+    if (!flags.treatment.empty()) options.treatment = exp::parse_treatment(flags.treatment, "--treatment");
     options.threads = flags.threads;
     options.resume = flags.resume;
     options.allow_config_change = flags.allow_config_change;
@@ -53,19 +59,24 @@ void run_evolve_command(const EvolveFlags& flags) {
 void add_evolve_command(CLI::App& app) {
     auto flags = std::make_shared<EvolveFlags>();
     auto* cmd = app.add_subcommand("evolve", "Evolve neural-network policies with NSGA-II into a run database");
-    cmd->add_option("--config", flags->config, "Run config (JSON): task, ea, dnn, seed, retain")->required();
+    cmd->add_option("--config", flags->config, "Run config (JSON): task, ea, dnn, kb, transfer, seed, retain")->required();
     cmd->add_option("--db", flags->db, "Run database to create (or to continue with --resume)")->required();
     cmd->add_option("--seed", flags->seed, "Run seed (default: the config's, else drawn and stored)");
     cmd->add_option("--generations", flags->generations, "Epochs after the random generation 0 (overrides ea.generations)");
     cmd->add_option("--threads", flags->threads, "Evaluation threads (default: all cores); results do not depend on it");
     cmd->add_option("--retain", flags->retain, "Genomes to store: front (first front + best, default) or all")
         ->check(CLI::IsMember({"front", "all"}));
+    cmd->add_option("--kb", flags->kb, "Knowledge base file that shapes the reward (overrides transfer.kb)");
+    cmd->add_option("--kb-name", flags->kb_name, "The KB to use in that file (default: its only one)");
+    cmd->add_option("--treatment", flags->treatment,
+                    "How the KB shapes the reward: none, sum, mo, sum-rand, mo-rand (overrides transfer.treatment)");
     cmd->add_flag("--resume", flags->resume, "Continue the run in --db from its last committed generation");
     cmd->add_flag("--allow-config-change", flags->allow_config_change, "With --resume: accept a config that differs");
     cmd->add_flag("--force", flags->force, "Replace an existing --db");
     cmd->add_flag("--quiet", flags->quiet, "No progress on stderr");
     cmd->footer(example({"stepstone evolve --config examples/source_quick.json --db run.db --seed 1",
-                         "stepstone evolve --config examples/source_quick.json --db run.db --resume --generations 40"}));
+                         "stepstone evolve --config examples/source_quick.json --db run.db --resume --generations 40",
+                         "stepstone evolve --config examples/target_quick.json --db sum.db --kb kb.db --treatment sum"}));
     cmd->callback([flags] {
         if (flags->seed < -1) throw ConfigError("--seed must be >= 0, got " + std::to_string(flags->seed));
         if (flags->generations < -1) {

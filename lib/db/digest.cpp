@@ -6,6 +6,7 @@
 #include <string_view>
 
 #include "db/database.hpp"
+#include "db/kb_store.hpp"
 
 namespace stepstone::db {
 
@@ -82,6 +83,29 @@ std::string run_digest(Connection& connection) {
     for (auto& statement : connection.prepare_all(sql("run/digest_queries.sql"))) {
         hasher.tag('Q');
         while (statement.step()) hasher.row(statement);
+    }
+    return hasher.hex();
+}
+
+std::string kb_digest(const kb::KnowledgeBase& kb, std::optional<std::uint64_t> randomized_seed) {
+    Hasher hasher;
+    const auto& params = kb.params();
+    const std::uint64_t shape[2] = {params.segment_width, params.channels};
+    hasher.tag('P');
+    hasher.bytes(shape, sizeof shape);
+    hasher.bytes(&params.delta, sizeof params.delta);
+    hasher.text(to_string(params.match));
+    if (randomized_seed) {
+        hasher.tag('S');
+        hasher.bytes(&*randomized_seed, sizeof *randomized_seed);
+    }
+    hasher.tag('V');
+    const auto values = kb.values();
+    hasher.bytes(values.data(), values.size_bytes());
+    for (const auto& record : kb.records()) {
+        hasher.tag('R');
+        hasher.bytes(&record.cum_reward, sizeof record.cum_reward);
+        hasher.bytes(&record.count, sizeof record.count);
     }
     return hasher.hex();
 }

@@ -1,8 +1,11 @@
 #pragma once
 
+#include <cstdint>
+#include <optional>
 #include <string>
 
 #include "db/connection.hpp"
+#include "kb/knowledge_base.hpp"
 
 namespace stepstone::db {
 
@@ -14,5 +17,12 @@ namespace stepstone::db {
 /// seed and config have the same digest whatever the thread count, and a
 /// resumed run has the digest of an uninterrupted one.
 std::string run_digest(Connection& connection);
+
+/// Hex digest (XXH3, 128 bits) of a knowledge base's content: its parameters
+/// (width, channels, delta, match rule), the randomized seed if any, and every
+/// segment's values, cumulated reward and count, in id order. Provenance and
+/// names are left out. A run shaped by a KB stores this digest, so resuming
+/// it with a different KB is refused.
+std::string kb_digest(const kb::KnowledgeBase& kb, std::optional<std::uint64_t> randomized_seed);
 
 }  // namespace stepstone::db

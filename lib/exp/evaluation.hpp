@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -18,6 +19,7 @@ struct Evaluation {
     long steps = 0;          ///< simulation steps run
     int nan_outputs = 0;     ///< network outputs that were NaN (replaced by 0)
     evo::Trajectory cells;   ///< diversity trajectory of the first start
+    std::optional<double> r_max;  ///< shaping from a knowledge base, when the run has one
 };
 
 /// Compiles `genome` and runs one evaluation. `behaviour`, if not empty,

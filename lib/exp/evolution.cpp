@@ -3,12 +3,15 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <exception>
+#include <filesystem>
 #include <numeric>
 
 #include "core/error.hpp"
 #include "core/rng.hpp"
 #include "core/text.hpp"
 #include "db/database.hpp"
+#include "db/digest.hpp"
 #include "db/kb_store.hpp"
 #include "evo/pareto.hpp"
 #include "evo/selection.hpp"
@@ -52,6 +55,7 @@ nlohmann::json member_to_json(const Member& m) {
     json["balls"] = m.balls;
     json["steps"] = m.steps;
     json["cells"] = cells_to_json(m.cells);
+    if (m.r_max) json["r_max"] = *m.r_max;
     json["objectives"] = m.objectives;
     json["crowding"] = m.crowding;
     return json;
@@ -68,6 +72,7 @@ Member member_from_json(const nlohmann::json& json) {
     for (const auto& cell : json.at("cells")) {
         m.cells.push_back({cell.at(0).get<std::int16_t>(), cell.at(1).get<std::int16_t>()});
     }
+    if (json.contains("r_max")) m.r_max = json.at("r_max").get<double>();
     m.objectives = json.at("objectives").get<std::vector<double>>();
     m.crowding = json.at("crowding").get<double>();
     return m;
@@ -141,6 +146,7 @@ Member Evolution::make_member(nn::Genome genome, const Evaluation& evaluation, s
     m.balls = evaluation.balls;
     m.steps = evaluation.steps;
     m.cells = evaluation.cells;
+    m.r_max = evaluation.r_max;
     nan_outputs_ += evaluation.nan_outputs;
     return m;
 }
@@ -151,18 +157,46 @@ void Evolution::attach_kb(kb::KnowledgeBase kb, std::int64_t kb_id, const std::s
     kb_source_ = kb_->add_source(source_name);
 }
 
+void Evolution::attach_shaping(kb::KnowledgeBase kb, Treatment treatment) {
+    shaping_max_average_ = kb.max_average();
+    shaping_kb_ = std::move(kb);
+    treatment_ = treatment;
+}
+
 std::vector<Evaluation> Evolution::evaluate(const std::vector<nn::Genome>& genomes) {
     kb_previous_size_.reset();
     time_kb_ = 0;
     const bool observe = kb_ && generation_ % config_.kb->period == 0;
+    const bool shape = shaping_kb_.has_value();
     const double started = now_seconds();
     std::vector<float> behaviours;
-    auto evaluations = evaluate_all(*task_, genomes, config_.dnn, threads_, observe ? &behaviours : nullptr);
+    auto evaluations =
+        evaluate_all(*task_, genomes, config_.dnn, threads_, observe || shape ? &behaviours : nullptr);
     time_simulation_ = now_seconds() - started;
+    const std::size_t width = task_->behaviour_size();
+    if (shape) {
+        // lookups only read the KB: each policy's r_max goes to its own slot
+        const auto count = static_cast<int>(genomes.size());
+        const auto segment_width = shaping_kb_->params().segment_width;
+        std::exception_ptr failure;
+#pragma omp parallel for schedule(dynamic, 4) num_threads(static_cast<int>(threads_))
+        for (int i = 0; i < count; ++i) {
+            const auto k = static_cast<std::size_t>(i);
+            try {
+                const std::span<const float> behaviour(behaviours.data() + k * width, width);
+                evaluations[k].r_max =
+                    shaping_kb_->r_max(kb::segment_behaviour(behaviour, sim::kChannels, segment_width));
+            } catch (...) {
+#pragma omp critical(stepstone_shaping_failure)
+                if (!failure) failure = std::current_exception();
+            }
+        }
+        if (failure) std::rethrow_exception(failure);
+    }
+    time_kb_ = now_seconds() - started - time_simulation_;
     if (!observe) return evaluations;
 
     // every policy of an observing generation, in index order, segment by segment
-    const std::size_t width = task_->behaviour_size();
     kb_previous_size_ = kb_->size();
     for (std::size_t k = 0; k < genomes.size(); ++k) {
         const std::span<const float> behaviour(behaviours.data() + k * width, width);
@@ -188,7 +222,11 @@ GenerationWrite Evolution::select(std::vector<Member> mixed, std::size_t first_n
     const auto sums = diversity_.sums();
     const double selection_started = now_seconds();
     evo::Objectives objectives;
-    for (std::size_t k = 0; k < mixed.size(); ++k) objectives.push_back({mixed[k].reward, sums[k]});
+    const double ball_reward = 1.0 / task_->reward_divisor();
+    for (std::size_t k = 0; k < mixed.size(); ++k) {
+        objectives.push_back(treatment_objectives(treatment_, mixed[k].reward, sums[k], mixed[k].r_max,
+                                                  shaping_max_average_, ball_reward));
+    }
 
     const auto ranking = evo::rank_and_crowd(objectives);
     const auto kept = evo::survivors(objectives, static_cast<std::size_t>(config_.ea.population_size));
@@ -212,6 +250,7 @@ GenerationWrite Evolution::select(std::vector<Member> mixed, std::size_t first_n
         row.reward = m.reward;
         row.fitness = objectives[k][0];
         row.diversity = objectives[k][1];
+        row.shaping = m.r_max;
         row.balls = m.balls;
         row.steps = m.steps;
         write.individuals.push_back(row);
@@ -313,6 +352,74 @@ std::string first_difference(const nlohmann::json& a, const nlohmann::json& b, c
     return a == b ? "" : (path.empty() ? std::string("config") : path);
 }
 
+// the config as compared on resume: the KB file may move, its digest may not
+nlohmann::json comparable(nlohmann::json config) {
+    if (config.contains("transfer")) config["transfer"].erase("kb");
+    return config;
+}
+
+// Applies the command line's transfer flags; on resume, a run created with a
+// transfer block keeps it when neither the config nor the flags name one.
+void apply_transfer_options(EvolveConfig& config, const EvolveOptions& options, const RunRecord* stored) {
+    if (options.treatment || options.kb || options.kb_name) {
+        if (!config.transfer) config.transfer = TransferConfig{};
+        if (options.treatment) config.transfer->treatment = *options.treatment;
+        if (options.kb) config.transfer->kb = *options.kb;
+        if (options.kb_name) config.transfer->kb_name = *options.kb_name;
+    }
+    if (!config.transfer && stored && stored->config.contains("transfer")) {
+        config.transfer = EvolveConfig::from_json(stored->config, "the run's stored config").transfer;
+    }
+    if (!config.transfer) return;
+    auto& transfer = *config.transfer;
+    if (transfer.treatment == Treatment::none && transfer.kb.empty()) {
+        config.transfer.reset();
+        return;
+    }
+    if (transfer.kb.empty()) {
+        throw ConfigError(concat("treatment ", to_string(transfer.treatment),
+                                 " needs a knowledge base (--kb KB.db or transfer.kb)"));
+    }
+}
+
+// Loads the shaping KB read-only and checks it against the task and the
+// treatment; fills the config's digest and makes its path absolute.
+kb::KnowledgeBase load_shaping_kb(EvolveConfig& config) {
+    auto& transfer = *config.transfer;
+    const std::string file = transfer.kb.string();
+    db::StoredKb stored = [&] {
+        db::Connection connection = db::open_database(transfer.kb, db::OpenMode::read_only);
+        return db::load_kb(connection, transfer.kb_name);
+    }();
+    const auto& params = stored.kb.params();
+    if (params.channels != static_cast<std::size_t>(sim::kChannels)) {
+        throw ConfigError(concat(file, ": the knowledge base has ", params.channels,
+                                 " channels per step, the robot's behaviour has ", sim::kChannels));
+    }
+    if (params.segment_width > static_cast<std::size_t>(config.task.steps_per_start)) {
+        throw ConfigError(concat(file, ": the knowledge base's segments are ", params.segment_width,
+                                 " steps wide, longer than an episode start (", config.task.steps_per_start,
+                                 " steps)"));
+    }
+    const bool randomized = stored.randomized_seed.has_value();
+    if (needs_randomized_kb(transfer.treatment) && !randomized) {
+        throw ConfigError(concat(file, ": treatment ", to_string(transfer.treatment),
+                                 " needs a randomized knowledge base (make one with stepstone kb randomize)"));
+    }
+    if (!needs_randomized_kb(transfer.treatment) && needs_kb(transfer.treatment) && randomized) {
+        throw ConfigError(concat(file, ": the knowledge base is randomized; use treatment ",
+                                 transfer.treatment == Treatment::sum ? "sum-rand" : "mo-rand", " with it"));
+    }
+    const std::string digest = db::kb_digest(stored.kb, stored.randomized_seed);
+    if (!transfer.kb_digest.empty() && transfer.kb_digest != digest) {
+        throw ConfigError(concat(file, ": the knowledge base differs from the one the run was started with"));
+    }
+    transfer.kb_digest = digest;
+    transfer.kb_name = stored.name;
+    transfer.kb = std::filesystem::absolute(transfer.kb).lexically_normal();
+    return std::move(stored.kb);
+}
+
 kb::KbParams kb_params(const KbConfig& config) {
     kb::KbParams params;
     params.segment_width = static_cast<std::size_t>(config.segment_width);
@@ -332,6 +439,21 @@ EvolveSummary run_evolve(const EvolveOptions& options) {
     if (options.seed) config.seed = *options.seed;
     const std::string name = options.db_path.filename().string();
 
+    // everything the run needs is loaded and checked before a file is touched
+    std::optional<RunRecord> stored_run;
+    if (options.resume) {
+        db::Connection existing = db::open_database(options.db_path, db::OpenMode::read_only);
+        stored_run = load_run(existing);
+    }
+    apply_transfer_options(config, options, stored_run ? &*stored_run : nullptr);
+    if (config.transfer && stored_run && stored_run->config.contains("transfer") &&
+        !options.allow_config_change) {
+        // resuming: the digest to check the KB against is the stored one
+        config.transfer->kb_digest = stored_run->config["transfer"].value("kb_digest", "");
+    }
+    std::optional<kb::KnowledgeBase> shaping;
+    if (config.transfer) shaping = load_shaping_kb(config);
+
     db::Connection connection = [&] {
         if (options.resume) return db::open_database(options.db_path, db::OpenMode::read_write);
         // the run row is written under a temporary name and moved into place whole
@@ -340,6 +462,7 @@ EvolveSummary run_evolve(const EvolveOptions& options) {
             if (!config.seed) config.seed = fresh_seed() >> 1;
             RunRecord run;
             run.task = std::string(sim::to_string(config.task.kind));
+            run.treatment = std::string(to_string(config.treatment()));
             run.seed = static_cast<std::int64_t>(*config.seed);
             run.config = config.to_json();
             run.generations = config.ea.generations;
@@ -354,7 +477,7 @@ EvolveSummary run_evolve(const EvolveOptions& options) {
     if (options.resume) {
         // the stored seed is the run's unless the user names another one
         if (!options.seed && run.config.contains("seed")) config.seed = run.config["seed"].get<std::uint64_t>();
-        const std::string diff = first_difference(run.config, config.to_json(), "");
+        const std::string diff = first_difference(comparable(run.config), comparable(config.to_json()), "");
         if (!diff.empty() && !options.allow_config_change) {
             throw ConfigError(concat(name, ": the config differs from the run's at ", diff,
                                      " (use --allow-config-change to resume anyway)"));
@@ -371,6 +494,7 @@ EvolveSummary run_evolve(const EvolveOptions& options) {
         auto stored = db::load_kb(connection, "run");
         evolution.attach_kb(std::move(stored.kb), stored.id, concat("seed-", seed));
     }
+    if (shaping) evolution.attach_shaping(std::move(*shaping), config.treatment());
 
     EvolveSummary summary;
     summary.seed = seed;

@@ -27,7 +27,8 @@ struct Member {
     int balls = 0;
     long steps = 0;
     evo::Trajectory cells;
-    std::vector<double> objectives;  ///< (fitness, diversity) in the selection that kept it
+    std::optional<double> r_max;     ///< shaping from the run's shaping KB, absent without one
+    std::vector<double> objectives;  ///< the objectives in the selection that kept it
     double crowding = 0;             ///< crowding distance in that selection
 };
 
@@ -57,6 +58,13 @@ public:
     /// Gives the run its knowledge base (config.kb set): `kb` as stored under
     /// `kb_id`, observed from now on as source `source_name`.
     void attach_kb(kb::KnowledgeBase kb, std::int64_t kb_id, const std::string& source_name);
+    /// Shapes the reward with `kb` under `treatment` from now on: every
+    /// evaluated policy's r_max is computed and recorded, and enters the
+    /// objectives as the treatment says (exp/treatment.hpp).
+    void attach_shaping(kb::KnowledgeBase kb, Treatment treatment);
+    /// The KB that shapes the reward, null without one.
+    const kb::KnowledgeBase* shaping_kb() const { return shaping_kb_ ? &*shaping_kb_ : nullptr; }
+
     /// The run's knowledge base, null without one.
     const kb::KnowledgeBase* knowledge_base() const { return kb_ ? &*kb_ : nullptr; }
 
@@ -67,7 +75,8 @@ private:
     GenerationWrite select(std::vector<Member> mixed, std::size_t first_new, double started);
     /// A new member with the next id, counting its NaN outputs.
     Member make_member(nn::Genome genome, const Evaluation& evaluation, std::optional<std::int64_t> parent);
-    /// Evaluates `genomes`; observes them into the KB when this generation is an observing one.
+    /// Evaluates `genomes`; computes their r_max with a shaping KB; observes
+    /// them into the run's KB when this generation is an observing one.
     std::vector<Evaluation> evaluate(const std::vector<nn::Genome>& genomes);
 
     EvolveConfig config_;
@@ -83,6 +92,9 @@ private:
     std::int64_t kb_id_ = 0;
     std::uint32_t kb_source_ = 0;
     std::optional<std::size_t> kb_previous_size_;  // set when the generation in progress observed
+    std::optional<kb::KnowledgeBase> shaping_kb_;
+    Treatment treatment_ = Treatment::none;
+    double shaping_max_average_ = 0;  // the sum treatment's normaliser
     double time_simulation_ = 0;  // seconds of the generation in progress
     double time_kb_ = 0;
 };
@@ -94,6 +106,9 @@ struct EvolveOptions {
     std::optional<std::uint64_t> seed;
     std::optional<int> generations;
     std::optional<Retain> retain;
+    std::optional<Treatment> treatment;           ///< overrides transfer.treatment
+    std::optional<std::filesystem::path> kb;      ///< overrides transfer.kb (the shaping KB file)
+    std::optional<std::string> kb_name;           ///< overrides transfer.kb_name
     unsigned threads = 0;  ///< 0 = every core
     bool resume = false;
     bool allow_config_change = false;
@@ -111,8 +126,12 @@ struct EvolveSummary {
 };
 
 /// Creates (or resumes) a run file and evolves it to the asked generation,
-/// one transaction per generation. Throws ConfigError on bad options or
-/// config, DatabaseError on an unusable file (left unchanged).
+/// one transaction per generation. With a transfer KB, the KB is loaded and
+/// checked (channels and width against the task, randomized or not against
+/// the treatment) before anything is written, and its content digest is
+/// stored with the run's config; a resume with a different KB is refused.
+/// Throws ConfigError on bad options, config or KB, DatabaseError on an
+/// unusable file (left unchanged).
 EvolveSummary run_evolve(const EvolveOptions& options);
 
 }  // namespace stepstone::exp

@@ -50,6 +50,23 @@ KbConfig read_kb(JsonReader reader) {
     return kb;
 }
 
+TransferConfig read_transfer(JsonReader reader) {
+    TransferConfig transfer;
+    std::string treatment = "none";
+    reader.read("treatment", treatment);
+    transfer.treatment = parse_treatment(treatment, reader.path_of("treatment"));
+    std::string kb;
+    reader.read("kb", kb);
+    transfer.kb = kb;
+    reader.read("kb_name", transfer.kb_name);
+    reader.read("kb_digest", transfer.kb_digest);
+    reader.finish();
+    if (needs_kb(transfer.treatment) && transfer.kb.empty()) {
+        throw ConfigError(concat(reader.path_of("kb"), " is required by treatment ", treatment));
+    }
+    return transfer;
+}
+
 }  // namespace
 
 EvolveConfig EvolveConfig::from_json(const nlohmann::json& json, const std::string& source) {
@@ -76,6 +93,7 @@ EvolveConfig EvolveConfig::from_json(const nlohmann::json& json, const std::stri
                                          config.task.steps_per_start, "), got ", config.kb->segment_width));
             }
         }
+        if (root.has("transfer")) config.transfer = read_transfer(root.child("transfer"));
         std::string retain = "front";
         root.read_choice("retain", retain, {"front", "all"});
         config.retain = retain == "all" ? Retain::all : Retain::front;
@@ -87,7 +105,11 @@ EvolveConfig EvolveConfig::from_json(const nlohmann::json& json, const std::stri
 }
 
 EvolveConfig EvolveConfig::load(const std::filesystem::path& path) {
-    return from_json(load_json_file(path), path.filename().string());
+    EvolveConfig config = from_json(load_json_file(path), path.filename().string());
+    if (config.transfer && !config.transfer->kb.empty() && config.transfer->kb.is_relative()) {
+        config.transfer->kb = path.parent_path() / config.transfer->kb;
+    }
+    return config;
 }
 
 nlohmann::json EvolveConfig::to_json() const {
@@ -119,6 +141,12 @@ nlohmann::json EvolveConfig::to_json() const {
                       {"delta", kb->delta},
                       {"period", kb->period},
                       {"match", kb->match}};
+    }
+    if (transfer) {
+        json["transfer"] = {{"treatment", to_string(transfer->treatment)},
+                            {"kb", transfer->kb.string()},
+                            {"kb_name", transfer->kb_name}};
+        if (!transfer->kb_digest.empty()) json["transfer"]["kb_digest"] = transfer->kb_digest;
     }
     return json;
 }

@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "exp/treatment.hpp"
 #include "nn/dnn_config.hpp"
 #include "sim/task.hpp"
 
@@ -33,6 +34,17 @@ struct KbConfig {
     std::string match = "within_delta";  ///< lookup rule: within_delta | nearest
 };
 
+/// The knowledge base that shapes a run's reward and how (the paper's
+/// treatments, section III.D).
+struct TransferConfig {
+    Treatment treatment = Treatment::none;
+    /// The KB file. In a config file a relative path is relative to the
+    /// config file's folder; on the command line, to the working directory.
+    std::filesystem::path kb;
+    std::string kb_name;    ///< the KB in that file; empty: the file's only one
+    std::string kb_digest;  ///< content digest of the KB used, filled when the run starts and stored
+};
+
 /// Which genomes a run stores for replay.
 enum class Retain {
     front,  ///< the first front and the best of every generation
@@ -47,14 +59,20 @@ struct EvolveConfig {
     std::optional<std::uint64_t> seed;  ///< absent: drawn from the OS and stored
     Retain retain = Retain::front;
     std::optional<KbConfig> kb;         ///< absent: the run builds no knowledge base
+    std::optional<TransferConfig> transfer;  ///< absent: no shaping (treatment none)
+
+    /// The run's treatment (none without a transfer block).
+    Treatment treatment() const { return transfer ? transfer->treatment : Treatment::none; }
 
     /// Strict parse: unknown keys, wrong types and out-of-range values throw
     /// ConfigError naming `source` and the key path. Keys: task {kind,
     /// steps_per_start, starts, still_limit, grid_period}, ea {population_size,
     /// generations, initial_multiplier}, dnn {see nn::DnnConfig}, kb
-    /// {segment_width, delta, period, match}, seed, retain.
+    /// {segment_width, delta, period, match}, transfer {treatment, kb,
+    /// kb_name, kb_digest}, seed, retain.
     static EvolveConfig from_json(const nlohmann::json& json, const std::string& source = "config");
-    /// Reads and parses a config file.
+    /// Reads and parses a config file; a relative transfer.kb is taken
+    /// relative to the file's folder.
     static EvolveConfig load(const std::filesystem::path& path);
 
     /// The effective config as stored with the run: every key with its value,

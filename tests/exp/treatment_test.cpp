@@ -1,0 +1,273 @@
+// The five treatments: the sum objective's ranking guarantee, the objectives
+// each treatment selects on, and evolve runs shaped by hand-made KBs whose
+// r_max is known without running the code under test.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <random>
+
+#include "core/error.hpp"
+#include "db/database.hpp"
+#include "db/digest.hpp"
+#include "db/kb_store.hpp"
+#include "exp/treatment.hpp"
+#include "kb/knowledge_base.hpp"
+#include "support/run_cli.hpp"
+#include "support/temp_dir.hpp"
+
+using namespace stepstone;
+using Catch::Matchers::Contains;
+
+namespace {
+
+constexpr double kBall = 1.0 / 24.0;  // one ball of 24 (8 balls x 3 starts)
+
+// A KB of width-20, 15-channel segments: one all-zero segment with average
+// `near`, one with every value 5 (further than any robot behaviour, whose
+// values lie in [0, 1]) with average `far`. Under match = nearest every
+// policy segment matches the zero segment, so r_max = near for every policy.
+kb::KnowledgeBase two_segment_kb(double near, double far, kb::Match match = kb::Match::nearest,
+                                 std::size_t channels = 15, std::size_t width = 20) {
+    kb::KbParams params;
+    params.segment_width = width;
+    params.channels = channels;
+    params.delta = 1.0;
+    params.match = match;
+    kb::KnowledgeBase base(params);
+    const auto source = base.add_source("hand");
+    const std::vector<float> zeros(params.dim(), 0.0f);
+    const std::vector<float> fives(params.dim(), 5.0f);
+    base.observe(kb::as_segments(zeros, params.dim()), near, {source, 0});
+    base.observe(kb::as_segments(fives, params.dim()), far, {source, 0});
+    return base;
+}
+
+void write_kb(const std::filesystem::path& path, const kb::KnowledgeBase& kb,
+              std::optional<std::uint64_t> randomized_seed = std::nullopt) {
+    auto connection = db::open_database(path, db::OpenMode::create);
+    db::Transaction transaction(connection);
+    db::insert_kb(connection, "hand", kb, randomized_seed);
+    transaction.commit();
+}
+
+const char* kTarget = R"({
+  "task": {"kind": "target", "steps_per_start": 200, "starts": 3},
+  "ea": {"population_size": 8, "generations": 2},
+  "seed": 11
+})";
+
+struct Row {
+    double reward, fitness, diversity;
+    std::optional<double> shaping;
+};
+
+std::vector<Row> individuals(const std::filesystem::path& path) {
+    auto connection = db::open_database(path, db::OpenMode::read_only);
+    auto statement = connection.prepare("SELECT reward, fitness, diversity, shaping FROM individual ORDER BY id");
+    std::vector<Row> rows;
+    while (statement.step()) {
+        Row row{statement.column_double(0), statement.column_double(1), statement.column_double(2), std::nullopt};
+        if (statement.column_type(3) != db::Statement::Type::null) row.shaping = statement.column_double(3);
+        rows.push_back(row);
+    }
+    return rows;
+}
+
+std::string run_text(const std::filesystem::path& path, const std::string& query) {
+    auto connection = db::open_database(path, db::OpenMode::read_only);
+    auto statement = connection.prepare(query);
+    REQUIRE(statement.step());
+    return std::string(statement.column_text(0));
+}
+
+test::CliResult evolve(const test::TempDir& dir, const std::string& db, const std::vector<std::string>& extra) {
+    std::vector<std::string> args{"evolve", "--config", (dir / "t.json").string(), "--db", (dir / db).string(),
+                                  "--threads", "2", "--quiet"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    return test::run_cli(args);
+}
+
+}  // namespace
+
+TEST_CASE("sum fitness: n balls always rank below n + 1 balls whatever the shaping", "[exp][treatment]") {
+    std::mt19937_64 random(2024);
+    std::uniform_int_distribution<int> balls(0, 23);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    for (int trial = 0; trial < 200000; ++trial) {
+        const int n = balls(random);
+        const double max_average = 1e-3 + unit(random);
+        // the worst case for the guarantee: n balls with the largest r_max, n + 1 with none
+        const double high = (trial % 3 == 0) ? max_average : unit(random) * max_average;
+        const double low = (trial % 3 == 0) ? 0.0 : unit(random) * max_average;
+        const double with_n = exp::sum_fitness(n * kBall, high, max_average, kBall);
+        const double with_more = exp::sum_fitness((n + 1) * kBall, low, max_average, kBall);
+        REQUIRE(with_n < with_more);
+    }
+}
+
+TEST_CASE("sum fitness by hand: the normalised r_max times one ball less the margin", "[exp][treatment]") {
+    // 2 balls, r_max 0.3 of a KB whose best average is 0.6: 2/24 + 0.5 x (1/24) x (1 - 1/1024)
+    CHECK(exp::sum_fitness(2 * kBall, 0.3, 0.6, kBall) == Approx(2.0 / 24 + 0.5 / 24 * 1023.0 / 1024).epsilon(1e-15));
+    // r_max = 0 adds nothing; a KB whose averages are all 0 shapes nothing
+    CHECK(exp::sum_fitness(3 * kBall, 0.0, 0.6, kBall) == 3 * kBall);
+    CHECK(exp::sum_fitness(3 * kBall, 0.0, 0.0, kBall) == 3 * kBall);
+    // more r_max, more fitness at equal reward
+    CHECK(exp::sum_fitness(kBall, 0.2, 0.6, kBall) < exp::sum_fitness(kBall, 0.4, 0.6, kBall));
+}
+
+TEST_CASE("each treatment selects on its own objectives", "[exp][treatment]") {
+    using exp::Treatment;
+    const double r = 5 * kBall, d = 17.0, rmax = 0.25, top = 0.5;
+    CHECK(exp::treatment_objectives(Treatment::none, r, d, std::nullopt, 0, kBall) == std::vector<double>{r, d});
+    CHECK(exp::treatment_objectives(Treatment::none, r, d, rmax, top, kBall) == std::vector<double>{r, d});
+    const double shaped = r + 0.5 * kBall * (1.0 - 1.0 / 1024);
+    for (Treatment t : {Treatment::sum, Treatment::sum_rand}) {
+        const auto o = exp::treatment_objectives(t, r, d, rmax, top, kBall);
+        REQUIRE(o.size() == 2);
+        CHECK(o[0] == Approx(shaped).epsilon(1e-15));
+        CHECK(o[1] == d);
+    }
+    for (Treatment t : {Treatment::mo, Treatment::mo_rand}) {
+        CHECK(exp::treatment_objectives(t, r, d, rmax, top, kBall) == std::vector<double>{r, d, rmax});
+    }
+}
+
+TEST_CASE("treatment names parse and print; an unknown one is refused", "[exp][treatment]") {
+    for (auto t : exp::all_treatments()) CHECK(exp::parse_treatment(std::string(exp::to_string(t))) == t);
+    CHECK(exp::all_treatments().size() == 5);
+    CHECK_THROWS_WITH(exp::parse_treatment("summ", "--treatment"),
+                      Contains("--treatment") && Contains("none, sum, mo, sum-rand, mo-rand") && Contains("summ"));
+}
+
+TEST_CASE("evolve sum: every fitness is reward + the hand-computed bonus", "[exp][treatment][cli]") {
+    test::TempDir dir;
+    test::write_file(dir / "t.json", kTarget);
+    write_kb(dir / "kb.db", two_segment_kb(0.2, 0.8));
+    const auto result = evolve(dir, "sum.db", {"--kb", (dir / "kb.db").string(), "--treatment", "sum"});
+    REQUIRE(result.exit_code == 0);
+    // r_max = 0.2 (the zero segment), normalised by the best average 0.8: a quarter of a ball less the margin
+    const auto rows = individuals(dir / "sum.db");
+    REQUIRE(rows.size() == 16 + 2 * 8);
+    for (const auto& row : rows) {
+        REQUIRE(row.shaping);
+        CHECK(*row.shaping == 0.2);
+        CHECK(row.fitness == Approx(row.reward + 0.25 * kBall * (1.0 - 1.0 / 1024)).epsilon(1e-14));
+    }
+    CHECK(run_text(dir / "sum.db", "SELECT treatment FROM run") == "sum");
+    CHECK(run_text(dir / "sum.db", "SELECT json_extract(config, '$.transfer.treatment') FROM run") == "sum");
+}
+
+TEST_CASE("evolve mo: r_max is the third objective and fitness stays the reward", "[exp][treatment][cli]") {
+    test::TempDir dir;
+    test::write_file(dir / "t.json", kTarget);
+    write_kb(dir / "kb.db", two_segment_kb(0.3, 0.9));
+    REQUIRE(evolve(dir, "mo.db", {"--kb", (dir / "kb.db").string(), "--treatment", "mo"}).exit_code == 0);
+    for (const auto& row : individuals(dir / "mo.db")) {
+        CHECK(row.fitness == row.reward);
+        REQUIRE(row.shaping);
+        CHECK(*row.shaping == Approx(0.3).epsilon(1e-15));
+    }
+    // the survivors were selected on three objectives
+    const auto objectives = run_text(dir / "mo.db",
+                                     "SELECT json_array_length(json_extract(state, '$.population[0].objectives')) "
+                                     "FROM checkpoint");
+    CHECK(objectives == "3");
+}
+
+TEST_CASE("evolve none: no KB, no shaping; with a KB, r_max recorded but not used", "[exp][treatment][cli]") {
+    test::TempDir dir;
+    test::write_file(dir / "t.json", kTarget);
+    write_kb(dir / "kb.db", two_segment_kb(0.2, 0.8));
+    REQUIRE(evolve(dir, "plain.db", {}).exit_code == 0);
+    REQUIRE(evolve(dir, "none.db", {"--kb", (dir / "kb.db").string(), "--treatment", "none"}).exit_code == 0);
+    const auto plain = individuals(dir / "plain.db");
+    const auto none = individuals(dir / "none.db");
+    REQUIRE(plain.size() == none.size());
+    for (std::size_t k = 0; k < plain.size(); ++k) {
+        CHECK(!plain[k].shaping);
+        REQUIRE(none[k].shaping);
+        CHECK(*none[k].shaping == 0.2);
+        // same seed, same objectives: the recorded r_max changed nothing
+        CHECK(none[k].fitness == plain[k].fitness);
+        CHECK(none[k].diversity == plain[k].diversity);
+    }
+}
+
+TEST_CASE("rand treatments use the randomized KB and record which", "[exp][treatment][cli]") {
+    test::TempDir dir;
+    test::write_file(dir / "t.json", kTarget);
+    const auto base = two_segment_kb(0.2, 0.8);
+    const auto randomized = base.randomized(7);
+    write_kb(dir / "kb.db", base);
+    write_kb(dir / "rand.db", randomized, 7);
+    REQUIRE(evolve(dir, "sr.db", {"--kb", (dir / "rand.db").string(), "--treatment", "sum-rand"}).exit_code == 0);
+    for (const auto& row : individuals(dir / "sr.db")) {
+        REQUIRE(row.shaping);
+        // the zero segment's randomized average, normalised by the randomized KB's best
+        const double near = randomized.record(0).average();
+        const double top = std::max(near, randomized.record(1).average());
+        CHECK(*row.shaping == near);
+        CHECK(row.fitness == Approx(row.reward + near / top * kBall * (1.0 - 1.0 / 1024)).epsilon(1e-14));
+    }
+    CHECK(run_text(dir / "sr.db", "SELECT treatment FROM run") == "sum-rand");
+    auto kb_connection = db::open_database(dir / "rand.db", db::OpenMode::read_only);
+    const auto stored = db::load_kb(kb_connection);
+    CHECK(run_text(dir / "sr.db", "SELECT json_extract(config, '$.transfer.kb_digest') FROM run") ==
+          db::kb_digest(stored.kb, stored.randomized_seed));
+    REQUIRE(evolve(dir, "mr.db", {"--kb", (dir / "rand.db").string(), "--treatment", "mo-rand"}).exit_code == 0);
+}
+
+TEST_CASE("bad transfer input: one line, exit 2, no run file", "[exp][treatment][cli][errors]") {
+    test::TempDir dir;
+    test::write_file(dir / "t.json", kTarget);
+    write_kb(dir / "kb.db", two_segment_kb(0.2, 0.8));
+    write_kb(dir / "rand.db", two_segment_kb(0.2, 0.8).randomized(3), 3);
+    write_kb(dir / "c12.db", two_segment_kb(0.2, 0.8, kb::Match::nearest, 12));
+    write_kb(dir / "wide.db", two_segment_kb(0.2, 0.8, kb::Match::nearest, 15, 400));
+    const std::string kb = (dir / "kb.db").string();
+    struct Case {
+        std::vector<std::string> args;
+        std::string message;
+    };
+    const std::vector<Case> cases = {
+        {{"--kb", kb, "--treatment", "best"}, "--treatment must be one of"},
+        {{"--treatment", "sum"}, "needs a knowledge base"},
+        {{"--kb", kb, "--treatment", "sum-rand"}, "needs a randomized knowledge base"},
+        {{"--kb", (dir / "rand.db").string(), "--treatment", "mo"}, "use treatment mo-rand"},
+        {{"--kb", (dir / "c12.db").string(), "--treatment", "sum"}, "12 channels per step"},
+        {{"--kb", (dir / "wide.db").string(), "--treatment", "sum"}, "400 steps wide"},
+    };
+    for (const auto& c : cases) {
+        INFO(c.message);
+        const auto result = evolve(dir, "bad.db", c.args);
+        CHECK(result.exit_code == 2);
+        REQUIRE(result.err_lines().size() == 1);
+        CHECK_THAT(result.err, Contains(c.message));
+        CHECK(!std::filesystem::exists(dir / "bad.db"));
+    }
+    // a KB file that is not there is a runtime failure (exit 1), also before anything is written
+    const auto missing = evolve(dir, "bad.db", {"--kb", (dir / "missing.db").string(), "--treatment", "sum"});
+    CHECK(missing.exit_code == 1);
+    CHECK_THAT(missing.err, Contains("missing.db"));
+    CHECK(!std::filesystem::exists(dir / "bad.db"));
+}
+
+TEST_CASE("a shaped run resumes to the digest of an uninterrupted one and refuses another KB", "[exp][treatment][cli][resume]") {
+    test::TempDir dir;
+    test::write_file(dir / "t.json", kTarget);
+    write_kb(dir / "kb.db", two_segment_kb(0.2, 0.8, kb::Match::within_delta));
+    write_kb(dir / "other.db", two_segment_kb(0.1, 0.8));
+    const std::string kb = (dir / "kb.db").string();
+    REQUIRE(evolve(dir, "whole.db", {"--kb", kb, "--treatment", "mo", "--generations", "4"}).exit_code == 0);
+    REQUIRE(evolve(dir, "parts.db", {"--kb", kb, "--treatment", "mo", "--generations", "2"}).exit_code == 0);
+    // the KB and treatment come back from the run file when not given again
+    REQUIRE(evolve(dir, "parts.db", {"--resume", "--generations", "4"}).exit_code == 0);
+    auto whole = db::open_database(dir / "whole.db", db::OpenMode::read_only);
+    auto parts = db::open_database(dir / "parts.db", db::OpenMode::read_only);
+    CHECK(db::run_digest(whole) == db::run_digest(parts));
+
+    const auto refused = evolve(dir, "parts.db",
+                                {"--resume", "--generations", "6", "--kb", (dir / "other.db").string()});
+    CHECK(refused.exit_code == 2);
+    CHECK_THAT(refused.err, Contains("differs from the one the run was started with"));
+}
