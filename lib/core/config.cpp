@@ -156,4 +156,20 @@ void JsonReader::finish() const {
     }
 }
 
+std::string first_difference(const nlohmann::json& a, const nlohmann::json& b, const std::string& path) {
+    if (a.is_object() && b.is_object()) {
+        for (const auto& [key, value] : a.items()) {
+            const std::string child = path.empty() ? key : path + "." + key;
+            if (!b.contains(key)) return child;
+            auto diff = first_difference(value, b.at(key), child);
+            if (!diff.empty()) return diff;
+        }
+        for (const auto& [key, value] : b.items()) {
+            if (!a.contains(key)) return path.empty() ? key : path + "." + key;
+        }
+        return "";
+    }
+    return a == b ? "" : (path.empty() ? std::string("config") : path);
+}
+
 }  // namespace stepstone

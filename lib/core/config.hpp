@@ -56,6 +56,10 @@ private:
     std::set<std::string, std::less<>> used_;
 };
 
+/// The first key path ("ea.population_size") at which two JSON values
+/// differ, "" if they are equal; `path` prefixes the keys.
+std::string first_difference(const nlohmann::json& a, const nlohmann::json& b, const std::string& path = "");
+
 /// Short rendering of a JSON value for error messages (at most ~40 chars).
 std::string describe(const nlohmann::json& value);
 

@@ -335,23 +335,6 @@ void Evolution::restore(const nlohmann::json& state) {
 
 namespace {
 
-// the first key path at which two JSON values differ, for the config-change message
-std::string first_difference(const nlohmann::json& a, const nlohmann::json& b, const std::string& path) {
-    if (a.is_object() && b.is_object()) {
-        for (const auto& [key, value] : a.items()) {
-            const std::string child = path.empty() ? key : path + "." + key;
-            if (!b.contains(key)) return child;
-            auto diff = first_difference(value, b.at(key), child);
-            if (!diff.empty()) return diff;
-        }
-        for (const auto& [key, value] : b.items()) {
-            if (!a.contains(key)) return path.empty() ? key : path + "." + key;
-        }
-        return "";
-    }
-    return a == b ? "" : (path.empty() ? std::string("config") : path);
-}
-
 // the config as compared on resume: the KB file may move, its digest may not
 nlohmann::json comparable(nlohmann::json config) {
     if (config.contains("transfer")) config["transfer"].erase("kb");

@@ -1,0 +1,80 @@
+// stepstone campaign: the paper's protocol as one resumable job
+
+#include <filesystem>
+#include <iostream>
+#include <memory>
+
+#include "commands.hpp"
+#include "core/error.hpp"
+#include "core/text.hpp"
+#include "exp/campaign.hpp"
+
+namespace stepstone::app {
+
+namespace {
+
+struct CampaignFlags {
+    std::string config;
+    std::string dir;
+    unsigned jobs = 0;
+    unsigned threads = 1;
+    bool resume = false;
+    bool dry_run = false;
+    bool quiet = false;
+};
+
+void run_campaign_command(const CampaignFlags& flags) {
+    if (flags.dry_run) {
+        const auto config = exp::CampaignConfig::load(flags.config);
+        exp::write_plan(std::cout, config, exp::estimate_cost(config), flags.jobs);
+        return;
+    }
+    exp::CampaignOptions options;
+    options.config_path = flags.config;
+    options.dir = flags.dir;
+    options.program = std::filesystem::read_symlink("/proc/self/exe");
+    options.jobs = flags.jobs;
+    options.threads = flags.threads;
+    options.resume = flags.resume;
+    options.progress = flags.quiet ? ProgressMode::quiet : ProgressMode::automatic;
+    const auto summary = exp::run_campaign(options);
+    std::cout << "runs " << summary.runs << "\n"
+              << "finished " << summary.finished << "\n"
+              << "already_finished " << summary.skipped << "\n"
+              << "failed " << summary.failures.size() << "\n";
+    if (!summary.failures.empty()) {
+        for (const auto& failure : summary.failures) std::cerr << "campaign: failed: " << failure << "\n";
+        throw Error(concat(summary.failures.size(), " run(s) failed (logs in ", flags.dir,
+                           "/logs); fix the cause and add --resume"));
+    }
+}
+
+void add_campaign_command(CLI::App& app) {
+    auto flags = std::make_shared<CampaignFlags>();
+    auto* cmd = app.add_subcommand(
+        "campaign", "Run a campaign: source runs, their KB, its randomized twin, target runs = treatments x seeds");
+    cmd->add_option("config", flags->config, "Campaign config (JSON): source, kb, randomize_seed, target")
+        ->required();
+    cmd->add_option("--dir", flags->dir, "Campaign directory (campaign.db, one file per run, KBs, logs)");
+    cmd->add_option("--jobs", flags->jobs, "Runs at a time (default: every core)");
+    cmd->add_option("--threads", flags->threads, "Evaluation threads of each run (default 1)")
+        ->check(CLI::Range(1u, 1024u));
+    cmd->add_flag("--resume", flags->resume, "Continue the campaign in --dir: finished runs are kept, others resumed");
+    cmd->add_flag("--dry-run", flags->dry_run, "Print the plan and its estimated cost; run nothing");
+    cmd->add_flag("--quiet", flags->quiet, "No progress on stderr");
+    cmd->footer(example({"stepstone campaign examples/campaign_quick.json --dir camp --jobs 2",
+                         "stepstone campaign examples/campaign_quick.json --dir camp --resume",
+                         "stepstone campaign examples/campaign_paper.json --dry-run",
+                         "stepstone stats camp"}));
+    cmd->callback([flags] {
+        if (!flags->dry_run && flags->dir.empty()) throw ConfigError("--dir is required (except with --dry-run)");
+        if (flags->dry_run && flags->resume) throw ConfigError("--dry-run and --resume cannot be used together");
+        run_campaign_command(*flags);
+    });
+}
+
+const CommandRegistrar registrar(50, add_campaign_command);
+
+}  // namespace
+
+}  // namespace stepstone::app

@@ -1,0 +1,1 @@
+SELECT id, step, treatment, seed, file, generations, status FROM campaign_run ORDER BY id
