@@ -1,6 +1,7 @@
 -- The scientific content of a run file, hashed by `stepstone db digest`.
 -- One query per statement, each with a total order; no timings, dates or versions.
-SELECT task, treatment, seed, config, status, generations, generations_done, evaluations, nan_outputs
+-- the shaping KB's file path is left out: its content digest (transfer.kb_digest) stays in
+SELECT task, treatment, seed, json_remove(config, '$.transfer.kb'), status, generations, generations_done, evaluations, nan_outputs
 FROM run ORDER BY id;
 SELECT run_id, generation, best_reward, mean_reward, median_reward, front_sizes, diversity_min,
        diversity_max, evaluations

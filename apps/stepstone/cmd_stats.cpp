@@ -1,0 +1,70 @@
+// stepstone stats: success curves and Mann-Whitney tests of a campaign
+
+#include <iostream>
+#include <memory>
+
+#include "commands.hpp"
+#include "core/error.hpp"
+#include "core/output_file.hpp"
+#include "core/text.hpp"
+#include "exp/campaign_stats.hpp"
+
+namespace stepstone::app {
+
+namespace {
+
+struct StatsFlags {
+    std::string dir;
+    int generation = -1;
+    double threshold = 0.5;
+    std::string csv;
+    std::string runs_csv;
+    std::string tests_csv;
+    bool force = false;
+};
+
+template <typename Writer>
+void write_csv(const std::string& path, bool force, Writer writer) {
+    if (path.empty()) return;
+    OutputFile out(path, force);
+    writer(out.stream());
+    out.commit();
+}
+
+void add_stats_command(CLI::App& app) {
+    auto flags = std::make_shared<StatsFlags>();
+    auto* cmd = app.add_subcommand("stats", "Success counts, best rewards and Mann-Whitney U tests of a campaign");
+    cmd->add_option("dir", flags->dir, "Campaign directory (holds campaign.db)")->required();
+    cmd->add_option("--generation", flags->generation, "Generation to compare at (default: the target budget)");
+    cmd->add_option("--threshold", flags->threshold, "Success: best-of-run reward >= this (default 0.5)");
+    cmd->add_option("--csv", flags->csv, "Write successful runs per treatment per generation (Fig. 6's data)");
+    cmd->add_option("--runs-csv", flags->runs_csv, "Write one row per run: treatment,seed,generation,best_reward,success");
+    cmd->add_option("--tests-csv", flags->tests_csv,
+                    "Write one row per pair: treatment_a,treatment_b,n_a,n_b,u,p,p_holm,a12");
+    cmd->add_flag("--force", flags->force, "Replace existing CSV files");
+    cmd->footer(example({"stepstone stats camp", "stepstone stats camp --generation 10 --threshold 0.25",
+                         "stepstone stats camp --runs-csv runs.csv --tests-csv tests.csv"}));
+    cmd->callback([flags] {
+        if (!(flags->threshold >= 0.0 && flags->threshold <= 1.0)) {
+            throw ConfigError(concat("--threshold must be within [0, 1], got ", flags->threshold));
+        }
+        for (const auto* path : {&flags->csv, &flags->runs_csv, &flags->tests_csv}) {
+            if (!path->empty() && !flags->force && std::filesystem::exists(*path)) {
+                throw ConfigError(*path + " exists (use --force to replace it)");
+            }
+        }
+        std::optional<int> generation;
+        if (flags->generation != -1) generation = flags->generation;
+        const auto stats = exp::campaign_stats(flags->dir, generation, flags->threshold);
+        exp::write_text(std::cout, stats);
+        write_csv(flags->csv, flags->force, [&](std::ostream& out) { exp::write_success_csv(out, stats); });
+        write_csv(flags->runs_csv, flags->force, [&](std::ostream& out) { exp::write_runs_csv(out, stats); });
+        write_csv(flags->tests_csv, flags->force, [&](std::ostream& out) { exp::write_tests_csv(out, stats); });
+    });
+}
+
+const CommandRegistrar registrar(55, add_stats_command);
+
+}  // namespace
+
+}  // namespace stepstone::app

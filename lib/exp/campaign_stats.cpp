@@ -1,0 +1,212 @@
+#include "exp/campaign_stats.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "core/error.hpp"
+#include "core/text.hpp"
+#include "db/database.hpp"
+#include "exp/campaign.hpp"
+#include "exp/run_store.hpp"
+
+namespace stepstone::exp {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+RunCurve read_curve(const fs::path& dir, const PlannedRun& run) {
+    const fs::path path = dir / run.file;
+    if (!fs::exists(path)) {
+        throw DataError(concat(path.string(), ": missing (campaign.db lists it; stepstone campaign --resume runs it)"));
+    }
+    auto connection = db::open_database(path, db::OpenMode::read_only);
+    const RunRecord record = load_run(connection);
+    if (static_cast<std::uint64_t>(record.seed) != run.seed || record.treatment != to_string(run.treatment)) {
+        throw DataError(concat(path.string(), ": holds a run of seed ", record.seed, " treatment ", record.treatment,
+                               ", campaign.db expects seed ", run.seed, " treatment ", to_string(run.treatment)));
+    }
+    RunCurve curve;
+    curve.treatment = run.treatment;
+    curve.seed = run.seed;
+    curve.file = run.file;
+    auto rows = connection.prepare("SELECT generation, best_reward FROM generation WHERE run_id = ?1 ORDER BY generation");
+    rows.bind(1, record.id);
+    double best = 0;
+    while (rows.step()) {
+        const auto g = rows.column_int(0);
+        const double reward = rows.column_double(1);
+        if (g != static_cast<std::int64_t>(curve.best.size()) || !std::isfinite(reward)) {
+            throw DataError(concat(path.string(), ": the generation table is damaged near generation ", g));
+        }
+        best = curve.best.empty() ? reward : std::max(best, reward);
+        curve.best.push_back(best);
+    }
+    return curve;
+}
+
+std::string number(double value) {
+    char buffer[32];
+    std::snprintf(buffer, sizeof buffer, "%.17g", value);
+    return buffer;
+}
+
+std::string short_number(double value) {
+    char buffer[32];
+    std::snprintf(buffer, sizeof buffer, "%.4g", value);
+    return buffer;
+}
+
+}  // namespace
+
+CampaignStats campaign_stats(const fs::path& dir, std::optional<int> generation, double threshold) {
+    if (!(threshold >= 0.0 && threshold <= 1.0)) {
+        throw ConfigError(concat("--threshold must be within [0, 1], got ", threshold));
+    }
+    if (generation && *generation < 0) throw ConfigError(concat("--generation must be >= 0, got ", *generation));
+    const CampaignIndex index = load_campaign(dir);
+
+    CampaignStats stats;
+    stats.dir = dir.string();
+    stats.threshold = threshold;
+    for (const auto& run : index.runs) {
+        if (run.step != "target") continue;
+        if (!generation) generation = run.generations;
+        stats.runs.push_back(read_curve(dir, run));
+        const auto& curve = stats.runs.back();
+        if (static_cast<int>(curve.best.size()) <= *generation) {
+            const int reached = static_cast<int>(curve.best.size()) - 1;
+            throw DataError(concat((dir / run.file).string(), ": has reached generation ", reached, " of ",
+                                   *generation, "; finish it (stepstone campaign --resume) or use --generation ",
+                                   std::max(reached, 0)));
+        }
+        auto it = std::find_if(stats.treatments.begin(), stats.treatments.end(),
+                               [&](const TreatmentResult& t) { return t.treatment == run.treatment; });
+        if (it == stats.treatments.end()) {
+            stats.treatments.push_back({run.treatment, {}, {}, 0});
+            it = stats.treatments.end() - 1;
+        }
+    }
+    if (stats.runs.empty()) throw DataError(concat(dir.string(), ": the campaign has no target runs"));
+    stats.generation = *generation;
+    const auto g = static_cast<std::size_t>(stats.generation);
+
+    for (auto& t : stats.treatments) {
+        for (const auto& run : stats.runs) {
+            if (run.treatment == t.treatment) t.best.push_back(run.best[g]);
+        }
+        t.summary = stats::summarize(t.best);
+        t.successes = stats::count_at_least(t.best, threshold);
+    }
+    stats.successes.assign(g + 1, std::vector<std::size_t>(stats.treatments.size(), 0));
+    for (std::size_t k = 0; k <= g; ++k) {
+        for (std::size_t t = 0; t < stats.treatments.size(); ++t) {
+            for (const auto& run : stats.runs) {
+                if (run.treatment == stats.treatments[t].treatment && run.best[k] >= threshold) {
+                    ++stats.successes[k][t];
+                }
+            }
+        }
+    }
+    std::vector<double> p;
+    for (std::size_t a = 0; a < stats.treatments.size(); ++a) {
+        for (std::size_t b = a + 1; b < stats.treatments.size(); ++b) {
+            const auto& ta = stats.treatments[a];
+            const auto& tb = stats.treatments[b];
+            PairTest test;
+            test.a = ta.treatment;
+            test.b = tb.treatment;
+            test.n_a = ta.best.size();
+            test.n_b = tb.best.size();
+            test.test = stats::mann_whitney_u(ta.best, tb.best);
+            test.a12 = stats::vargha_delaney_a12(ta.best, tb.best);
+            stats.tests.push_back(test);
+            p.push_back(test.test.p);
+        }
+    }
+    const auto adjusted = stats::holm(p);
+    for (std::size_t k = 0; k < stats.tests.size(); ++k) stats.tests[k].p_holm = adjusted[k];
+    return stats;
+}
+
+void write_text(std::ostream& out, const CampaignStats& stats) {
+    char line[256];
+    out << "campaign " << stats.dir << ": " << stats.runs.size() << " target runs at generation " << stats.generation
+        << "; success = best-of-run reward >= " << stats.threshold << "\n\n";
+    std::snprintf(line, sizeof line, "%-10s %5s %8s %8s %8s %8s %8s\n", "treatment", "runs", "success", "q1",
+                  "median", "q3", "max");
+    out << line;
+    for (const auto& t : stats.treatments) {
+        std::snprintf(line, sizeof line, "%-10s %5zu %8zu %8.4g %8.4g %8.4g %8.4g\n",
+                      std::string(to_string(t.treatment)).c_str(), t.best.size(), t.successes, t.summary.q1,
+                      t.summary.median, t.summary.q3, t.summary.max);
+        out << line;
+    }
+
+    out << "\nsuccessful runs by generation\n";
+    std::snprintf(line, sizeof line, "%-10s", "generation");
+    out << line;
+    for (const auto& t : stats.treatments) {
+        std::snprintf(line, sizeof line, " %9s", std::string(to_string(t.treatment)).c_str());
+        out << line;
+    }
+    out << "\n";
+    // about ten rows, evenly spaced, always ending at the chosen generation
+    const std::size_t last = stats.successes.size() - 1;
+    const std::size_t step = std::max<std::size_t>(1, (last + 9) / 10);
+    for (std::size_t g = 0;; g = std::min(g + step, last)) {
+        std::snprintf(line, sizeof line, "%-10zu", g);
+        out << line;
+        for (std::size_t count : stats.successes[g]) {
+            std::snprintf(line, sizeof line, " %9zu", count);
+            out << line;
+        }
+        out << "\n";
+        if (g == last) break;
+    }
+
+    if (stats.tests.empty()) return;
+    out << "\nMann-Whitney U, two-sided, at generation " << stats.generation
+        << " (p_holm: Holm-adjusted over the " << stats.tests.size() << " pairs; A12: P(a > b) + P(a = b) / 2)\n";
+    std::snprintf(line, sizeof line, "%-10s %-10s %4s %4s %8s %10s %10s %6s  %s\n", "a", "b", "n_a", "n_b", "U", "p",
+                  "p_holm", "A12", "method");
+    out << line;
+    for (const auto& t : stats.tests) {
+        std::snprintf(line, sizeof line, "%-10s %-10s %4zu %4zu %8s %10.4g %10.4g %6.3f  %s\n",
+                      std::string(to_string(t.a)).c_str(), std::string(to_string(t.b)).c_str(), t.n_a, t.n_b,
+                      short_number(t.test.u).c_str(), t.test.p, t.p_holm, t.a12,
+                      t.test.method == stats::Method::exact ? "exact" : "normal");
+        out << line;
+    }
+}
+
+void write_success_csv(std::ostream& out, const CampaignStats& stats) {
+    out << "generation";
+    for (const auto& t : stats.treatments) out << "," << to_string(t.treatment);
+    out << "\n";
+    for (std::size_t g = 0; g < stats.successes.size(); ++g) {
+        out << g;
+        for (std::size_t count : stats.successes[g]) out << "," << count;
+        out << "\n";
+    }
+}
+
+void write_runs_csv(std::ostream& out, const CampaignStats& stats) {
+    out << "treatment,seed,generation,best_reward,success\n";
+    const auto g = static_cast<std::size_t>(stats.generation);
+    for (const auto& run : stats.runs) {
+        out << to_string(run.treatment) << "," << run.seed << "," << stats.generation << "," << number(run.best[g])
+            << "," << (run.best[g] >= stats.threshold ? 1 : 0) << "\n";
+    }
+}
+
+void write_tests_csv(std::ostream& out, const CampaignStats& stats) {
+    out << "treatment_a,treatment_b,n_a,n_b,u,p,p_holm,a12\n";
+    for (const auto& t : stats.tests) {
+        out << to_string(t.a) << "," << to_string(t.b) << "," << t.n_a << "," << t.n_b << "," << number(t.test.u)
+            << "," << number(t.test.p) << "," << number(t.p_holm) << "," << number(t.a12) << "\n";
+    }
+}
+
+}  // namespace stepstone::exp

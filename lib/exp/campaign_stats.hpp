@@ -1,0 +1,75 @@
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "exp/treatment.hpp"
+#include "stats/mann_whitney.hpp"
+#include "stats/summary.hpp"
+
+namespace stepstone::exp {
+
+/// One target run of a campaign as the statistics see it.
+struct RunCurve {
+    Treatment treatment = Treatment::none;
+    std::uint64_t seed = 0;
+    std::string file;                 ///< relative to the campaign directory
+    /// Best-of-run task reward up to each generation (index = generation):
+    /// the running maximum of the generation table's best_reward.
+    std::vector<double> best;
+};
+
+/// One treatment at the chosen generation.
+struct TreatmentResult {
+    Treatment treatment = Treatment::none;
+    std::vector<double> best;   ///< best-of-run reward of each run, in seed order
+    stats::Summary summary;     ///< of `best`
+    std::size_t successes = 0;  ///< runs with best >= threshold
+};
+
+/// Mann-Whitney U between two treatments at the chosen generation.
+struct PairTest {
+    Treatment a = Treatment::none, b = Treatment::none;
+    std::size_t n_a = 0, n_b = 0;
+    stats::MannWhitney test;  ///< u is treatment a's U statistic
+    double p_holm = 1;        ///< Holm-adjusted over every pair of the campaign
+    double a12 = 0.5;         ///< Vargha-Delaney A12 of a over b
+};
+
+/// The statistics of a campaign's target runs (the paper's Fig. 6 and 7 and
+/// its appendix table).
+struct CampaignStats {
+    std::string dir;
+    int generation = 0;
+    double threshold = 0.5;
+    std::vector<RunCurve> runs;                 ///< target runs, in campaign order
+    std::vector<TreatmentResult> treatments;    ///< in campaign order
+    /// successes[g][t]: runs of treatment t that succeeded by generation g (0..generation).
+    std::vector<std::vector<std::size_t>> successes;
+    std::vector<PairTest> tests;                ///< every pair (a before b in campaign order)
+};
+
+/// Reads every target run of the campaign in `dir` (read-only) and computes
+/// the statistics at `generation` (default: the campaign's target budget).
+/// A run succeeds when its best-of-run reward reaches `threshold`. Throws
+/// ConfigError for a threshold outside [0, 1] or a negative generation;
+/// DataError naming the file when a run file is missing, is not a run of this
+/// campaign (seed or treatment differ), or has not reached `generation`;
+/// DatabaseError for an unreadable file.
+CampaignStats campaign_stats(const std::filesystem::path& dir, std::optional<int> generation, double threshold);
+
+/// The text report: per-treatment summary, success counts along generations,
+/// and the pairwise tests.
+void write_text(std::ostream& out, const CampaignStats& stats);
+/// Success counts per generation: `generation,<treatment>...`.
+void write_success_csv(std::ostream& out, const CampaignStats& stats);
+/// One row per run: `treatment,seed,generation,best_reward,success`.
+void write_runs_csv(std::ostream& out, const CampaignStats& stats);
+/// One row per pair: `treatment_a,treatment_b,n_a,n_b,u,p,p_holm,a12`.
+void write_tests_csv(std::ostream& out, const CampaignStats& stats);
+
+}  // namespace stepstone::exp

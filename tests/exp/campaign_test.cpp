@@ -1,0 +1,283 @@
+// stepstone campaign and stepstone stats, end to end on tiny campaigns.
+#include <catch2/catch.hpp>
+
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <map>
+#include <thread>
+
+#include "db/database.hpp"
+#include "db/digest.hpp"
+#include "support/run_cli.hpp"
+#include "support/temp_dir.hpp"
+
+using namespace stepstone;
+using Catch::Matchers::Contains;
+
+namespace {
+
+// one source run feeding a KB every generation, then 5 treatments x 2 seeds
+std::string campaign_json(int target_generations, int steps = 200) {
+    return R"({
+  "source": {
+    "config": {
+      "task": {"kind": "source", "steps_per_start": 200, "starts": 1},
+      "ea": {"population_size": 8},
+      "kb": {"segment_width": 20, "delta": 1.83, "period": 1}
+    },
+    "seeds": [4],
+    "generations": 3
+  },
+  "kb": {"from": "best"},
+  "randomize_seed": 9,
+  "target": {
+    "config": {"task": {"kind": "target", "steps_per_start": )" +
+           std::to_string(steps) + R"(, "starts": 1}, "ea": {"population_size": 8}},
+    "runs": 2,
+    "generations": )" +
+           std::to_string(target_generations) + R"(
+  }
+})";
+}
+
+test::CliResult campaign(const test::TempDir& dir, const std::string& name, const std::vector<std::string>& extra) {
+    std::vector<std::string> args{"campaign", (dir / "c.json").string(), "--dir", (dir / name).string(), "--quiet"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    return test::run_cli(args);
+}
+
+// campaign_run.id -> digest, for the runs recorded finished
+std::map<std::int64_t, std::string> digests(const std::filesystem::path& dir) {
+    auto connection = db::open_database(dir / "campaign.db", db::OpenMode::read_only);
+    auto rows = connection.prepare("SELECT id, digest FROM campaign_run WHERE status = 'finished' ORDER BY id");
+    std::map<std::int64_t, std::string> out;
+    while (rows.step()) out[rows.column_int(0)] = rows.column_text(1);
+    return out;
+}
+
+std::int64_t finished_runs(const std::filesystem::path& dir) {
+    try {
+        auto connection = db::open_database(dir / "campaign.db", db::OpenMode::read_only);
+        return connection.query_int("SELECT count(*) FROM campaign_run WHERE status = 'finished'").value_or(0);
+    } catch (const std::exception&) {
+        return 0;
+    }
+}
+
+std::string digest_of(const std::filesystem::path& run) {
+    auto connection = db::open_database(run, db::OpenMode::read_only);
+    return db::run_digest(connection);
+}
+
+// every generation of a run file gets best_reward = value (its best-of-run at any generation)
+void set_best(const std::filesystem::path& run, double value) {
+    auto connection = db::open_database(run, db::OpenMode::read_write);
+    auto update = connection.prepare("UPDATE generation SET best_reward = ?1");
+    update.bind(1, value);
+    update.step();
+}
+
+}  // namespace
+
+TEST_CASE("campaign runs every step; each run equals the same evolve run alone", "[exp][campaign][cli]") {
+    test::TempDir dir;
+    test::write_file(dir / "c.json", campaign_json(2));
+    const auto result = campaign(dir, "camp", {"--jobs", "2"});
+    INFO(result.err);
+    REQUIRE(result.exit_code == 0);
+    CHECK_THAT(result.out, Contains("runs 11") && Contains("finished 11") && Contains("failed 0"));
+    const auto camp = dir / "camp";
+    for (const char* file : {"campaign.db", "kb/kb.db", "kb/kb-rand.db", "source/seed-4.db", "target/none/seed-1.db",
+                             "target/sum/seed-2.db", "target/mo/seed-1.db", "target/sum-rand/seed-2.db",
+                             "target/mo-rand/seed-1.db"}) {
+        INFO(file);
+        CHECK(std::filesystem::exists(camp / file));
+    }
+    CHECK(digests(camp).size() == 11);
+
+    // the sum run of seed 2, made by hand with the campaign's own KB, is the same run
+    const auto alone = test::run_cli({"evolve", "--config", (camp / "config" / "target.json").string(), "--db",
+                                      (dir / "alone.db").string(), "--seed", "2", "--generations", "2", "--kb",
+                                      (camp / "kb" / "kb.db").string(), "--treatment", "sum", "--quiet"});
+    REQUIRE(alone.exit_code == 0);
+    CHECK(digest_of(dir / "alone.db") == digest_of(camp / "target" / "sum" / "seed-2.db"));
+
+    // a second start in the same directory is refused; --resume has nothing left to do
+    const auto again = campaign(dir, "camp", {});
+    CHECK(again.exit_code == 2);
+    CHECK_THAT(again.err, Contains("already holds a campaign") && Contains("--resume"));
+    const auto resumed = campaign(dir, "camp", {"--resume"});
+    CHECK(resumed.exit_code == 0);
+    CHECK_THAT(resumed.out, Contains("already_finished 11"));
+}
+
+TEST_CASE("a campaign killed mid-way and resumed gives the digests of an uninterrupted one", "[exp][campaign][cli][resume][slow]") {
+    test::TempDir dir;
+    test::write_file(dir / "c.json", campaign_json(6, 1000));
+    REQUIRE(campaign(dir, "whole", {"--jobs", "2"}).exit_code == 0);
+
+    const auto killed = dir / "killed";
+    const pid_t pid = ::fork();
+    REQUIRE(pid >= 0);
+    if (pid == 0) {
+        ::execl(STEPSTONE_BINARY, STEPSTONE_BINARY, "campaign", (dir / "c.json").c_str(), "--dir", killed.c_str(),
+                "--jobs", "1", "--quiet", static_cast<char*>(nullptr));
+        ::_exit(127);
+    }
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+    while (finished_runs(killed) < 4 && std::chrono::steady_clock::now() < deadline) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    ::kill(pid, SIGKILL);
+    int status = 0;
+    ::waitpid(pid, &status, 0);
+    const auto done_before = finished_runs(killed);
+    CHECK(done_before >= 4);
+    CHECK(done_before < 11);
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));  // the orphaned run gets its SIGTERM
+
+    const auto resumed = campaign(dir, "killed", {"--resume", "--jobs", "2"});
+    INFO(resumed.err);
+    REQUIRE(resumed.exit_code == 0);
+    CHECK(digests(killed) == digests(dir / "whole"));
+    CHECK(digests(killed).size() == 11);
+}
+
+TEST_CASE("stats on a campaign: success counts, quartiles and tests by hand", "[exp][campaign][stats][cli]") {
+    test::TempDir dir;
+    test::write_file(dir / "c.json", campaign_json(2));
+    REQUIRE(campaign(dir, "camp", {"--jobs", "2"}).exit_code == 0);
+    const auto camp = dir / "camp";
+    // best-of-run rewards chosen by hand
+    const std::map<std::string, std::pair<double, double>> best = {{"none", {0.125, 0.25}},
+                                                                    {"sum", {0.625, 0.75}},
+                                                                    {"mo", {0.375, 0.875}},
+                                                                    {"sum-rand", {0.0, 0.0}},
+                                                                    {"mo-rand", {0.0, 0.5}}};
+    for (const auto& [treatment, values] : best) {
+        set_best(camp / "target" / treatment / "seed-1.db", values.first);
+        set_best(camp / "target" / treatment / "seed-2.db", values.second);
+    }
+    const auto result = test::run_cli({"stats", camp.string(), "--runs-csv", (dir / "runs.csv").string(),
+                                       "--tests-csv", (dir / "tests.csv").string(), "--csv",
+                                       (dir / "success.csv").string()});
+    INFO(result.err);
+    REQUIRE(result.exit_code == 0);
+
+    const auto runs = test::read_file(dir / "runs.csv");
+    CHECK_THAT(runs, Contains("treatment,seed,generation,best_reward,success\n"));
+    CHECK_THAT(runs, Contains("none,1,2,0.125,0\n") && Contains("sum,2,2,0.75,1\n") && Contains("mo-rand,2,2,0.5,1\n"));
+    // success (>= 0.5) by generation: every generation holds the same best here
+    CHECK(test::read_file(dir / "success.csv") ==
+          "generation,none,sum,mo,sum-rand,mo-rand\n0,0,2,1,0,1\n1,0,2,1,0,1\n2,0,2,1,0,1\n");
+
+    const auto tests = test::read_file(dir / "tests.csv");
+    CHECK_THAT(tests, Contains("treatment_a,treatment_b,n_a,n_b,u,p,p_holm,a12\n"));
+    // none {0.125, 0.25} vs sum {0.625, 0.75}: U = 0, no ties, exact: p = 2 x 1/C(4,2) = 1/3; A12 = 0
+    CHECK_THAT(tests, Contains("none,sum,2,2,0,0.333333333333333"));
+    // none vs mo {0.375, 0.875}: U = 0 again
+    CHECK_THAT(tests, Contains("none,mo,2,2,0,0.333333333333333"));
+    // sum vs mo: 0.625 > 0.375, 0.75 > 0.375, the others lose: U = 2 = n_a n_b / 2, p = 1, A12 = 0.5
+    CHECK_THAT(tests, Contains("sum,mo,2,2,2,1,1,0.5\n"));
+    // sum-rand {0, 0} vs mo-rand {0, 0.5}: ties -> normal approximation. U = 2 x 0.5 = 1 (each 0 ties
+    // with mo-rand's 0), so U_b = 3; tie term t = 3 zeros: sigma^2 = 4/12 (5 - (27 - 3)/(4 x 3)) = 1,
+    // z = (3 - 2 - 0.5) / 1 = 0.5, p = erfc(0.5 / sqrt 2) = 0.6170750774519738 (Python's math.erfc)
+    CHECK_THAT(tests, Contains("sum-rand,mo-rand,2,2,1,0.61707507745197"));
+    CHECK_THAT(result.out, Contains("sum            2        2"));
+}
+
+TEST_CASE("stats reports a missing, corrupt or unfinished run file", "[exp][campaign][stats][cli][errors]") {
+    test::TempDir dir;
+    test::write_file(dir / "c.json", campaign_json(2));
+    REQUIRE(campaign(dir, "camp", {"--jobs", "2"}).exit_code == 0);
+    const auto camp = dir / "camp";
+
+    SECTION("threshold outside [0, 1]") {
+        const auto result = test::run_cli({"stats", camp.string(), "--threshold", "1.5"});
+        CHECK(result.exit_code == 2);
+        CHECK(result.err_lines().size() == 1);
+        CHECK_THAT(result.err, Contains("--threshold must be within [0, 1]"));
+    }
+    SECTION("a generation no run has reached") {
+        const auto result = test::run_cli({"stats", camp.string(), "--generation", "5"});
+        CHECK(result.exit_code == 1);
+        CHECK_THAT(result.err, Contains("has reached generation 2 of 5"));
+    }
+    SECTION("a missing run file") {
+        std::filesystem::remove(camp / "target" / "mo" / "seed-2.db");
+        const auto result = test::run_cli({"stats", camp.string()});
+        CHECK(result.exit_code == 1);
+        CHECK(result.err_lines().size() == 1);
+        CHECK_THAT(result.err, Contains("target/mo/seed-2.db") && Contains("missing"));
+    }
+    SECTION("a corrupt run file") {
+        test::write_file(camp / "target" / "sum" / "seed-1.db", std::string(4096, 'x'));
+        const auto result = test::run_cli({"stats", camp.string()});
+        CHECK(result.exit_code == 1);
+        CHECK(result.err_lines().size() == 1);
+        CHECK_THAT(result.err, Contains("seed-1.db"));
+    }
+    SECTION("a run file swapped with another") {
+        std::filesystem::copy_file(camp / "target" / "sum" / "seed-1.db", camp / "target" / "mo" / "seed-1.db",
+                                   std::filesystem::copy_options::overwrite_existing);
+        const auto result = test::run_cli({"stats", camp.string()});
+        CHECK(result.exit_code == 1);
+        CHECK_THAT(result.err, Contains("campaign.db expects seed 1 treatment mo"));
+    }
+}
+
+TEST_CASE("bad campaign input: one line, exit 2, nothing started", "[exp][campaign][cli][errors]") {
+    test::TempDir dir;
+    struct Case {
+        std::string json;
+        std::string message;
+    };
+    const std::vector<Case> cases = {
+        {R"({"target": {"config": {"task": {"kind": "target"}}, "treatments": ["sum", "best"]}, "kb": {"file": "k.db"}})",
+         "target.treatments must be one of none, sum, mo, sum-rand, mo-rand, got \"best\""},
+        {R"({"target": {"config": {"task": {"kind": "target"}}, "treatments": ["sum"]}})", "needs kb.file"},
+        {R"({"target": {"config": {"task": {"kind": "target"}}}, "kb": {"file": "nowhere.db"}})", "does not exist"},
+        {R"({"source": {"config": {"task": {"kind": "source"}}}, "target": {"config": {"task": {"kind": "target"}}}})",
+         "source.config has no kb block"},
+        {R"({"target": {"config": {"task": {"kind": "target"}}, "treatments": ["none"], "seeds": [1, 1]}})",
+         "target.seeds repeats a seed"},
+        {R"({"target": {"config": "missing.json", "treatments": ["none"]}})", "missing.json"},
+        {R"({"target": {"config": {"task": {"kind": "target"}}, "treatments": ["none"], "gens": 3}})",
+         "target.gens: unknown key"},
+    };
+    for (const auto& c : cases) {
+        INFO(c.json);
+        test::write_file(dir / "c.json", c.json);
+        const auto result = campaign(dir, "camp", {});
+        CHECK(result.exit_code == 2);
+        CHECK(result.err_lines().size() == 1);
+        CHECK_THAT(result.err, Contains(c.message));
+        CHECK(!std::filesystem::exists(dir / "camp"));
+    }
+
+    // resuming with another config is refused and leaves the campaign as it was
+    test::write_file(dir / "c.json", campaign_json(1));
+    REQUIRE(campaign(dir, "camp", {}).exit_code == 0);
+    const auto before = digests(dir / "camp");
+    test::write_file(dir / "c.json", campaign_json(2));
+    const auto changed = campaign(dir, "camp", {"--resume"});
+    CHECK(changed.exit_code == 2);
+    CHECK_THAT(changed.err, Contains("the config differs from the campaign's at target.generations"));
+    CHECK(digests(dir / "camp") == before);
+}
+
+TEST_CASE("campaign --dry-run prints the plan and its cost without touching the disk", "[exp][campaign][cli]") {
+    test::TempDir dir;
+    test::write_file(dir / "c.json", campaign_json(2));
+    const auto result = test::run_cli({"campaign", (dir / "c.json").string(), "--dry-run"});
+    REQUIRE(result.exit_code == 0);
+    // 1 source run: (2 + 3) x 8 = 40 evaluations; 10 target runs: (2 + 2) x 8 = 32 each
+    CHECK_THAT(result.out, Contains("11 runs, 360 evaluations"));
+    // 40 x 200 + 320 x 200 steps (one start each)
+    CHECK_THAT(result.out, Contains("at most 7.2e+04 robot steps"));
+    // nothing but the config in the directory
+    CHECK(std::distance(std::filesystem::directory_iterator(dir.path()), std::filesystem::directory_iterator()) == 1);
+}
