@@ -7,9 +7,10 @@
 #include "commands.hpp"
 #include "core/error.hpp"
 #include "db/database.hpp"
-#include "db/digest.hpp"
+#include "core/text.hpp"
 #include "db/kb_store.hpp"
-#include "exp/evolution.hpp"
+#include "exp/campaign.hpp"
+#include "exp/campaign_stats.hpp"
 #include "exp/replay.hpp"
 
 namespace stepstone::app {
@@ -19,56 +20,69 @@ namespace {
 struct DemoFlags {
     std::string dir = "demo-out";
     std::string examples = "examples";
-    unsigned threads = 0;
+    unsigned jobs = 0;
     bool quiet = false;
 };
 
 void run_demo(const DemoFlags& flags) {
     namespace fs = std::filesystem;
     const fs::path dir = flags.dir;
-    const fs::path config = fs::path(flags.examples) / "source_quick.json";
+    const fs::path config = fs::path(flags.examples) / "campaign_quick.json";
     if (!fs::exists(config)) throw ConfigError(config.string() + ": no such file (set --examples to the examples folder)");
     fs::create_directories(dir);
+    const fs::path camp = dir / "campaign";
 
-    // 1. a short source evolution into a run file
-    std::cout << "== source evolution (" << config.string() << ") -> " << (dir / "source.db").string() << std::endl;
-    exp::EvolveOptions options;
+    // 1. the paper's protocol in small: source run, its KB, the five treatments on the target task
+    const bool resume = fs::exists(camp / "campaign.db");
+    std::cout << "== campaign (" << config.string() << ") -> " << camp.string()
+              << (resume ? " (resumed: finished runs are kept)" : "") << std::endl;
+    exp::CampaignOptions options;
     options.config_path = config;
-    options.db_path = dir / "source.db";
-    options.threads = flags.threads;
-    options.force = true;
+    options.dir = camp;
+    options.program = fs::read_symlink("/proc/self/exe");
+    options.jobs = flags.jobs;
+    options.threads = 1;
+    options.resume = resume;
     options.progress = flags.quiet ? ProgressMode::quiet : ProgressMode::automatic;
-    const auto summary = exp::run_evolve(options);
-    std::cout << "   seed " << summary.seed << ", generations 0-" << summary.generations_done << ", "
-              << summary.evaluations << " evaluations, best reward " << summary.best_reward << "\n";
+    const auto summary = exp::run_campaign(options);
+    std::cout << "   " << summary.finished << "/" << summary.runs << " runs finished";
+    if (!summary.failures.empty()) {
+        for (const auto& failure : summary.failures) std::cerr << "demo: failed: " << failure << "\n";
+        throw Error(concat(summary.failures.size(), " run(s) failed (logs in ", (camp / "logs").string(), ")"));
+    }
+    std::cout << "\n";
 
-    // 2. the best stored policy replays to its stored reward
-    const auto replayed = exp::replay(dir / "source.db", "best");
-    std::cout << "== replay of the best policy (individual " << replayed.individual_id << "): reward "
+    // 2. the best source policy replays to its stored reward
+    const fs::path source = camp / "source" / "seed-1.db";
+    const auto replayed = exp::replay(source, "best");
+    std::cout << "== replay of the best source policy (individual " << replayed.individual_id << "): reward "
               << replayed.result.reward << ", stored " << replayed.stored_reward
               << (replayed.result.reward == replayed.stored_reward ? " (identical)" : " (DIFFERENT)") << "\n";
 
-    // 3. the knowledge base the run built from its policies
-    auto connection = db::open_database(dir / "source.db", db::OpenMode::read_only);
-    for (const auto& kb : db::list_kbs(connection)) {
-        const auto policies = connection.query_int("SELECT sum(policies) FROM kb_source WHERE kb_id = " +
-                                                   std::to_string(kb.id));
-        std::cout << "== knowledge base \"" << kb.name << "\": " << kb.segments << " segments of "
-                  << kb.params.segment_width << " steps x " << kb.params.channels << " channels from "
-                  << policies.value_or(0) << " policies (delta " << kb.params.delta << ")\n";
+    // 3. the knowledge base exported from the source run, and its randomized twin
+    for (const char* file : {"kb/kb.db", "kb/kb-rand.db"}) {
+        auto connection = db::open_database(camp / file, db::OpenMode::read_only);
+        for (const auto& kb : db::list_kbs(connection)) {
+            const auto stored = db::load_kb(connection, kb.name);
+            std::cout << "== " << file << ": " << kb.segments << " segments of " << kb.params.segment_width
+                      << " steps x " << kb.params.channels << " channels, largest average reward "
+                      << stored.kb.max_average() << (kb.randomized_seed ? " (randomized)" : "") << "\n";
+        }
     }
 
-    // 4. the run's digest identifies its results
-    std::cout << "== digest " << db::run_digest(connection) << "\n"
-              << "   inspect it: stepstone db info " << (dir / "source.db").string() << std::endl;
+    // 4. the statistics of the target runs (the paper's Fig. 6, Fig. 7 and appendix)
+    std::cout << "== statistics (stepstone stats " << camp.string() << ")\n";
+    exp::write_text(std::cout, exp::campaign_stats(camp, std::nullopt, 0.5));
+    std::cout << "   query the runs with SQL: sqlite3 " << (camp / "campaign.db").string()
+              << " 'SELECT file, best_reward FROM campaign_run'" << std::endl;
 }
 
 void add_demo_command(CLI::App& app) {
     auto flags = std::make_shared<DemoFlags>();
-    auto* demo = app.add_subcommand("demo", "Run the main job end to end on small settings");
+    auto* demo = app.add_subcommand("demo", "Run the main job end to end on small settings: a quick campaign and its statistics");
     demo->add_option("--dir", flags->dir, "Output folder (default: demo-out)");
     demo->add_option("--examples", flags->examples, "Folder holding the example configs (default: examples)");
-    demo->add_option("--threads", flags->threads, "Evaluation threads (default: all cores)");
+    demo->add_option("--jobs", flags->jobs, "Runs at a time (default: every core)");
     demo->add_flag("--quiet", flags->quiet, "No progress on stderr");
     demo->footer(example({"stepstone demo --dir demo-out"}));
     demo->callback([flags] { run_demo(*flags); });

@@ -32,7 +32,8 @@ TEST_CASE("an unknown flag is a usage error: exit 2, one stderr line, no output 
 TEST_CASE("--help on every level shows an example and exits 0", "[cli][help]") {
     for (const auto& args : std::vector<std::vector<std::string>>{
              {"--help"}, {"db", "--help"}, {"db", "info", "--help"}, {"db", "migrate", "--help"}, {"db", "digest", "--help"}, {"demo", "--help"},
-             {"evolve", "--help"}, {"replay", "--help"}, {"simulate", "--help"}, {"bench", "--help"}}) {
+             {"evolve", "--help"}, {"replay", "--help"}, {"simulate", "--help"}, {"bench", "--help"},
+             {"campaign", "--help"}, {"stats", "--help"}}) {
         auto result = test::run_cli(args);
         INFO(args.front() << " " << args.back());
         CHECK(result.exit_code == 0);
