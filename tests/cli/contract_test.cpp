@@ -101,5 +101,5 @@ TEST_CASE("demo without its example configs is a usage error", "[cli][demo][erro
     auto result = test::run_cli({"demo", "--dir", (dir / "out").string(), "--examples", (dir / "none").string()});
     CHECK(result.exit_code == 2);
     CHECK(result.err_lines().size() == 1);
-    CHECK_THAT(result.err, Contains("source_quick.json: no such file"));
+    CHECK_THAT(result.err, Contains("campaign_quick.json: no such file"));
 }
