@@ -7,6 +7,11 @@
 
 #include "core/assert.hpp"
 
+#if defined(__x86_64__) || defined(__i386__)
+#define STEPSTONE_EVO_HAVE_AVX2_KERNEL 1
+#include <immintrin.h>
+#endif
+
 namespace stepstone::evo {
 
 namespace {
@@ -83,34 +88,18 @@ float edit_distance_full_table(std::span<const GridCell> a, std::span<const Grid
     return table[n][m];
 }
 
-void EditDistanceBatch::run(std::span<const GridCell* const> first, std::span<const GridCell* const> second,
-                            std::size_t length, float* out) {
+namespace {
+
+// The batch's dynamic programme on lane-interleaved cells (ax..by, n x
+// kLanes floats each): the portable version in four-lane SSE vectors.
+void batch_portable(const float* ax_all, const float* ay_all, const float* bx_all, const float* by_all,
+                    std::size_t n, float* rows, float* out, std::size_t count) {
     constexpr std::size_t L = kLanes;
     static_assert(L % 4 == 0);
-    const std::size_t count = first.size();
-    STEPSTONE_ASSERT(count == second.size() && count >= 1 && count <= L);
-    const std::size_t n = length;
     const std::size_t width = n + 1;
 
-    // cells as floats, lane-interleaved; unused lanes repeat lane 0
-    ax_.resize(n * L);
-    ay_.resize(n * L);
-    bx_.resize(n * L);
-    by_.resize(n * L);
-    for (std::size_t l = 0; l < L; ++l) {
-        const GridCell* a = first[l < count ? l : 0];
-        const GridCell* b = second[l < count ? l : 0];
-        for (std::size_t i = 0; i < n; ++i) {
-            ax_[i * L + l] = a[i].x;
-            ay_[i * L + l] = a[i].y;
-            bx_[i * L + l] = b[i].x;
-            by_[i * L + l] = b[i].y;
-        }
-    }
-
     // three DP rows and two rows of substitution costs, each width x L
-    rows_.resize(5 * width * L);
-    float* before = rows_.data();
+    float* before = rows;
     float* previous = before + width * L;
     float* current = previous + width * L;
     float* previous_cost = current + width * L;
@@ -123,15 +112,15 @@ void EditDistanceBatch::run(std::span<const GridCell* const> first, std::span<co
     }
 
     for (std::size_t i = 1; i <= n; ++i) {
-        const float* ax = &ax_[(i - 1) * L];
-        const float* ay = &ay_[(i - 1) * L];
+        const float* ax = &ax_all[(i - 1) * L];
+        const float* ay = &ay_all[(i - 1) * L];
         for (std::size_t l = 0; l < L; ++l) {
             current[l] = static_cast<float>(i);
             current_cost[l] = 1.0f;
         }
         for (std::size_t j = 1; j <= n; ++j) {
-            const float* bx = &bx_[(j - 1) * L];
-            const float* by = &by_[(j - 1) * L];
+            const float* bx = &bx_all[(j - 1) * L];
+            const float* by = &by_all[(j - 1) * L];
             const float* up = &previous[j * L];
             const float* diagonal = &previous[(j - 1) * L];
             const float* left = &current[(j - 1) * L];
@@ -157,6 +146,173 @@ void EditDistanceBatch::run(std::span<const GridCell* const> first, std::span<co
         std::swap(previous_cost, current_cost);
     }
     for (std::size_t l = 0; l < count; ++l) out[l] = previous[n * L + l];
+}
+
+#ifdef STEPSTONE_EVO_HAVE_AVX2_KERNEL
+// The same programme in AVX2: the 16 lanes are two vectors of 8 floats. One
+// self-contained function of intrinsics (no helper takes or returns a
+// vector), so nothing with a 32-byte vector crosses into baseline code.
+//
+// Every lane does the IEEE operations of the portable version: the same
+// costs (|dx| + |dy|) / 12 and the same candidate sums. Only the order of
+// the minimum changes, D = min(left + 1, min(min(up + 1, diagonal + cost),
+// swap)), which keeps left + 1 alone on the dependency chain along the row;
+// the values are never NaN nor -0, so the minimum of the same candidates is
+// the same float in any order.
+//
+// Each row has one more slot in front, column -1, held at +infinity, and
+// the row before row 1 is all +infinity: the transposition then needs no
+// test of i > 1 or j > 1, its candidate is +infinity there. A row of
+// equality masks (a[i-1] == b[j-1], as cost == 0) feeds the next row's
+// transposition test.
+[[gnu::target("avx2")]] void batch_avx2(const float* ax_all, const float* ay_all, const float* bx_all,
+                                        const float* by_all, std::size_t n, float* rows, float* out,
+                                        std::size_t count) {
+    constexpr std::size_t L = kLanes;
+    static_assert(L == 16);
+    const std::size_t slots = (n + 2) * L;  // columns -1 .. n
+
+    float* before = rows;
+    float* previous = before + slots;
+    float* current = previous + slots;
+    float* previous_equal = current + slots;
+    float* current_equal = previous_equal + slots;
+
+    const __m256 infinity = _mm256_set1_ps(__builtin_inff());
+    const __m256 one = _mm256_set1_ps(1.0f);
+    const __m256 tiles = _mm256_set1_ps(kGridTiles);
+    const __m256 sign = _mm256_set1_ps(-0.0f);
+    const __m256 zero = _mm256_setzero_ps();
+
+    // row -1: +infinity; row 0: D[0][j] = j; no equal cells above row 1
+    for (std::size_t s = 0; s < slots; s += 8) {
+        _mm256_storeu_ps(before + s, infinity);
+        _mm256_storeu_ps(previous_equal + s, zero);
+    }
+    _mm256_storeu_ps(previous, infinity);
+    _mm256_storeu_ps(previous + 8, infinity);
+    for (std::size_t j = 0; j <= n; ++j) {
+        const __m256 column = _mm256_set1_ps(static_cast<float>(j));
+        _mm256_storeu_ps(previous + (j + 1) * L, column);
+        _mm256_storeu_ps(previous + (j + 1) * L + 8, column);
+    }
+
+    for (std::size_t i = 1; i <= n; ++i) {
+        const float* ax = ax_all + (i - 1) * L;
+        const float* ay = ay_all + (i - 1) * L;
+        const __m256 ax0 = _mm256_loadu_ps(ax);
+        const __m256 ax1 = _mm256_loadu_ps(ax + 8);
+        const __m256 ay0 = _mm256_loadu_ps(ay);
+        const __m256 ay1 = _mm256_loadu_ps(ay + 8);
+
+        // columns -1 and 0 of row i
+        _mm256_storeu_ps(current, infinity);
+        _mm256_storeu_ps(current + 8, infinity);
+        __m256 left0 = _mm256_set1_ps(static_cast<float>(i));
+        __m256 left1 = left0;
+        _mm256_storeu_ps(current + L, left0);
+        _mm256_storeu_ps(current + L + 8, left1);
+        __m256 diagonal0 = _mm256_loadu_ps(previous + L);
+        __m256 diagonal1 = _mm256_loadu_ps(previous + L + 8);
+        __m256 equal_left0 = zero;
+        __m256 equal_left1 = zero;
+
+        for (std::size_t j = 1; j <= n; ++j) {
+            const float* bx = bx_all + (j - 1) * L;
+            const float* by = by_all + (j - 1) * L;
+            const std::size_t at = (j + 1) * L;   // column j
+            const std::size_t far = (j - 1) * L;  // column j - 2
+
+            // lanes 0..7
+            const __m256 manhattan0 =
+                _mm256_add_ps(_mm256_andnot_ps(sign, _mm256_sub_ps(ax0, _mm256_loadu_ps(bx))),
+                              _mm256_andnot_ps(sign, _mm256_sub_ps(ay0, _mm256_loadu_ps(by))));
+            const __m256 cost0 = _mm256_div_ps(manhattan0, tiles);
+            const __m256 equal0 = _mm256_cmp_ps(manhattan0, zero, _CMP_EQ_OQ);
+            const __m256 up0 = _mm256_loadu_ps(previous + at);
+            const __m256 swap0 = _mm256_and_ps(equal_left0, _mm256_loadu_ps(previous_equal + at));
+            const __m256 swapped0 =
+                _mm256_blendv_ps(infinity, _mm256_add_ps(_mm256_loadu_ps(before + far), cost0), swap0);
+            const __m256 rest0 = _mm256_min_ps(
+                _mm256_min_ps(_mm256_add_ps(up0, one), _mm256_add_ps(diagonal0, cost0)), swapped0);
+            left0 = _mm256_min_ps(_mm256_add_ps(left0, one), rest0);
+            _mm256_storeu_ps(current + at, left0);
+            _mm256_storeu_ps(current_equal + at, equal0);
+            diagonal0 = up0;
+            equal_left0 = equal0;
+
+            // lanes 8..15
+            const __m256 manhattan1 =
+                _mm256_add_ps(_mm256_andnot_ps(sign, _mm256_sub_ps(ax1, _mm256_loadu_ps(bx + 8))),
+                              _mm256_andnot_ps(sign, _mm256_sub_ps(ay1, _mm256_loadu_ps(by + 8))));
+            const __m256 cost1 = _mm256_div_ps(manhattan1, tiles);
+            const __m256 equal1 = _mm256_cmp_ps(manhattan1, zero, _CMP_EQ_OQ);
+            const __m256 up1 = _mm256_loadu_ps(previous + at + 8);
+            const __m256 swap1 = _mm256_and_ps(equal_left1, _mm256_loadu_ps(previous_equal + at + 8));
+            const __m256 swapped1 =
+                _mm256_blendv_ps(infinity, _mm256_add_ps(_mm256_loadu_ps(before + far + 8), cost1), swap1);
+            const __m256 rest1 = _mm256_min_ps(
+                _mm256_min_ps(_mm256_add_ps(up1, one), _mm256_add_ps(diagonal1, cost1)), swapped1);
+            left1 = _mm256_min_ps(_mm256_add_ps(left1, one), rest1);
+            _mm256_storeu_ps(current + at + 8, left1);
+            _mm256_storeu_ps(current_equal + at + 8, equal1);
+            diagonal1 = up1;
+            equal_left1 = equal1;
+        }
+        float* const oldest = before;
+        before = previous;
+        previous = current;
+        current = oldest;
+        float* const old_equal = previous_equal;
+        previous_equal = current_equal;
+        current_equal = old_equal;
+    }
+    for (std::size_t l = 0; l < count; ++l) out[l] = previous[(n + 1) * L + l];
+}
+#endif
+
+bool cpu_has_avx2() {
+#ifdef STEPSTONE_EVO_HAVE_AVX2_KERNEL
+    __builtin_cpu_init();
+    return __builtin_cpu_supports("avx2");
+#else
+    return false;
+#endif
+}
+
+}  // namespace
+
+EditDistanceBatch::EditDistanceBatch(Simd simd) : avx2_(simd == Simd::automatic && cpu_has_avx2()) {}
+
+void EditDistanceBatch::run(std::span<const GridCell* const> first, std::span<const GridCell* const> second,
+                            std::size_t length, float* out) {
+    constexpr std::size_t L = kLanes;
+    const std::size_t count = first.size();
+    STEPSTONE_ASSERT(count == second.size() && count >= 1 && count <= L);
+    const std::size_t n = length;
+
+    // cells as floats, lane-interleaved; unused lanes repeat lane 0
+    ax_.resize(n * L);
+    ay_.resize(n * L);
+    bx_.resize(n * L);
+    by_.resize(n * L);
+    for (std::size_t l = 0; l < L; ++l) {
+        const GridCell* a = first[l < count ? l : 0];
+        const GridCell* b = second[l < count ? l : 0];
+        for (std::size_t i = 0; i < n; ++i) {
+            ax_[i * L + l] = a[i].x;
+            ay_[i * L + l] = a[i].y;
+            bx_[i * L + l] = b[i].x;
+            by_[i * L + l] = b[i].y;
+        }
+    }
+
+    // five rows of L lanes each: three of distances, two of costs or equalities
+    rows_.resize(5 * (n + 2) * L);
+#ifdef STEPSTONE_EVO_HAVE_AVX2_KERNEL
+    if (avx2_) return batch_avx2(ax_.data(), ay_.data(), bx_.data(), by_.data(), n, rows_.data(), out, count);
+#endif
+    batch_portable(ax_.data(), ay_.data(), bx_.data(), by_.data(), n, rows_.data(), out, count);
 }
 
 }  // namespace stepstone::evo

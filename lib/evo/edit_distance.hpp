@@ -56,12 +56,23 @@ inline constexpr std::size_t kLanes = 16;
 /// EditDistance exactly. Reuses its buffers across calls.
 class EditDistanceBatch {
 public:
+    /// Vector instructions of run(): `automatic` uses AVX2 where the CPU has
+    /// it, `baseline` only those of the build target (SSE2 on x86-64).
+    enum class Simd : std::uint8_t { automatic, baseline };
+
+    /// `simd` only affects speed, never a result.
+    explicit EditDistanceBatch(Simd simd = Simd::automatic);
+
     /// Writes first.size() (<= kLanes) distances to `out`.
     void run(std::span<const GridCell* const> first, std::span<const GridCell* const> second,
              std::size_t length, float* out);
 
+    /// Whether run() uses its AVX2 build (chosen at construction).
+    bool uses_avx2() const { return avx2_; }
+
 private:
     std::vector<float> ax_, ay_, bx_, by_, rows_;
+    bool avx2_ = false;
 };
 
 }  // namespace stepstone::evo

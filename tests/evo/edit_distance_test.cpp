@@ -40,8 +40,12 @@ Trajectory random_trajectory(Rng& rng, std::size_t length, std::uint64_t width, 
     return t;
 }
 
-float batch_one(const Trajectory& a, const Trajectory& b) {
-    EditDistanceBatch batch;
+constexpr EditDistanceBatch::Simd kBothSimd[] = {EditDistanceBatch::Simd::automatic,
+                                                 EditDistanceBatch::Simd::baseline};
+
+float batch_one(const Trajectory& a, const Trajectory& b,
+                EditDistanceBatch::Simd simd = EditDistanceBatch::Simd::automatic) {
+    EditDistanceBatch batch(simd);
     const GridCell* first[] = {a.data()};
     const GridCell* second[] = {b.data()};
     float out = -1.0f;
@@ -75,7 +79,7 @@ TEST_CASE("a transposition costs the substitution of the current pair", "[evo][d
     const GridCell p{0, 0}, q{6, 0};
     CHECK(distance(Trajectory{p, q}, Trajectory{q, p}) == 0.5f);
     CHECK(edit_distance_full_table(Trajectory{p, q}, Trajectory{q, p}) == 0.5f);
-    CHECK(batch_one(Trajectory{p, q}, Trajectory{q, p}) == 0.5f);
+    for (auto simd : kBothSimd) CHECK(batch_one(Trajectory{p, q}, Trajectory{q, p}, simd) == 0.5f);
     // far apart, substitutions would cost 1.5 + 1.5, two indels 2; the swap costs 1.5
     const GridCell s{11, 7};
     CHECK(distance(Trajectory{p, s}, Trajectory{s, p}) == 1.5f);
@@ -99,7 +103,7 @@ TEST_CASE("every implementation equals a plain full table on random sequences", 
         REQUIRE(rows(a, b) == want);
         REQUIRE(rows(b, a) == want);  // symmetric, exactly
         REQUIRE(edit_distance_full_table(a, b) == want);
-        REQUIRE(batch_one(a, b) == want);
+        for (auto simd : kBothSimd) REQUIRE(batch_one(a, b, simd) == want);
     }
     // sequences of different lengths (rows and full table only)
     for (int trial = 0; trial < 100; ++trial) {
@@ -114,7 +118,9 @@ TEST_CASE("sixteen pairs in lanes give the distances of each pair alone", "[evo]
     Rng rng(52);
     std::vector<Trajectory> pool;
     for (int k = 0; k < 40; ++k) pool.push_back(random_trajectory(rng, 80, 4, 4));
-    EditDistanceBatch batch;
+    EditDistanceBatch vectors;
+    EditDistanceBatch baseline(EditDistanceBatch::Simd::baseline);
+    CHECK(!baseline.uses_avx2());
     for (std::size_t count : {std::size_t{16}, std::size_t{7}, std::size_t{1}}) {
         std::vector<const GridCell*> first, second;
         std::vector<std::pair<std::size_t, std::size_t>> pairs;
@@ -124,8 +130,46 @@ TEST_CASE("sixteen pairs in lanes give the distances of each pair alone", "[evo]
             first.push_back(pool[i].data());
             second.push_back(pool[j].data());
         }
-        std::vector<float> out(count);
-        batch.run(first, second, 80, out.data());
-        for (std::size_t k = 0; k < count; ++k) CHECK(out[k] == oracle(pool[pairs[k].first], pool[pairs[k].second]));
+        for (auto* batch : {&vectors, &baseline}) {
+            std::vector<float> out(count);
+            batch->run(first, second, 80, out.data());
+            for (std::size_t k = 0; k < count; ++k) {
+                CHECK(out[k] == oracle(pool[pairs[k].first], pool[pairs[k].second]));
+            }
+        }
+    }
+}
+
+TEST_CASE("the batch handles the whole int16 range of cells and any length", "[evo][diversity]") {
+    // Manhattan distances up to 2 x 65535, and lengths that are not 80
+    Rng rng(53);
+    const GridCell low{-32768, -32768}, high{32767, 32767};
+    for (auto simd : kBothSimd) {
+        CHECK(batch_one(Trajectory{low}, Trajectory{high}, simd) == 2.0f);  // an insertion and a deletion
+        CHECK(batch_one(Trajectory{low, high}, Trajectory{high, low}, simd) ==
+              oracle({low, high}, {high, low}));
+        CHECK(batch_one(Trajectory{}, Trajectory{}, simd) == 0.0f);
+    }
+    for (int trial = 0; trial < 200; ++trial) {
+        const std::size_t length = 1 + rng.below(40);
+        Trajectory a(length), b(length);
+        for (auto* t : {&a, &b}) {
+            for (auto& cell : *t) {
+                // mostly a few far-apart values, so equal cells and swaps still occur
+                const auto pick = [&rng] {
+                    const std::int16_t values[] = {-32768, -1, 0, 5, 32767};
+                    if (rng.below(4) != 0) return values[rng.below(5)];
+                    return static_cast<std::int16_t>(static_cast<std::int64_t>(rng.below(65536)) - 32768);
+                };
+                cell.x = pick();
+                cell.y = pick();
+            }
+        }
+        if (trial % 2 == 0 && length > 1) {
+            b = a;
+            std::swap(b[0], b[1]);
+        }
+        const float want = oracle(a, b);
+        for (auto simd : kBothSimd) REQUIRE(batch_one(a, b, simd) == want);
     }
 }
