@@ -53,8 +53,23 @@ void Connection::close() {
     db_ = nullptr;
 }
 
+namespace {
+
+// a read-only reader cannot recover the WAL that a killed writer left behind
+std::string hint_for(sqlite3* db) {
+    if (!db) return "";
+    const int code = sqlite3_extended_errcode(db);
+    if (code == SQLITE_READONLY_RECOVERY || code == SQLITE_READONLY_CANTINIT) {
+        return " (the file was left mid-write by a killed program: resume it, e.g. stepstone evolve --resume, "
+               "or open it once for writing, e.g. stepstone db migrate)";
+    }
+    return "";
+}
+
+}  // namespace
+
 void Connection::fail(std::string_view context) const {
-    throw DatabaseError(concat(name(), ": ", context, ": ", db_ ? sqlite3_errmsg(db_) : "closed"));
+    throw DatabaseError(concat(name(), ": ", context, ": ", db_ ? sqlite3_errmsg(db_) : "closed", hint_for(db_)));
 }
 
 void Connection::exec(std::string_view sql) {
@@ -63,7 +78,7 @@ void Connection::exec(std::string_view sql) {
     if (sqlite3_exec(db_, text.c_str(), nullptr, nullptr, &error) != SQLITE_OK) {
         std::string message = error ? error : sqlite3_errmsg(db_);
         sqlite3_free(error);
-        throw DatabaseError(concat(name(), ": ", one_line(message)));
+        throw DatabaseError(concat(name(), ": ", one_line(message), hint_for(db_)));
     }
 }
 

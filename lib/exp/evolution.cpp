@@ -422,11 +422,13 @@ EvolveSummary run_evolve(const EvolveOptions& options) {
     if (options.seed) config.seed = *options.seed;
     const std::string name = options.db_path.filename().string();
 
-    // everything the run needs is loaded and checked before a file is touched
+    // everything the run needs is loaded and checked before a file is written; a resumed
+    // file is opened for writing at once, so that the WAL of a killed run is recovered
+    std::optional<db::Connection> resumed;
     std::optional<RunRecord> stored_run;
     if (options.resume) {
-        db::Connection existing = db::open_database(options.db_path, db::OpenMode::read_only);
-        stored_run = load_run(existing);
+        resumed = db::open_database(options.db_path, db::OpenMode::read_write);
+        stored_run = load_run(*resumed);
     }
     apply_transfer_options(config, options, stored_run ? &*stored_run : nullptr);
     if (config.transfer && stored_run && stored_run->config.contains("transfer") &&
@@ -438,7 +440,7 @@ EvolveSummary run_evolve(const EvolveOptions& options) {
     if (config.transfer) shaping = load_shaping_kb(config);
 
     db::Connection connection = [&] {
-        if (options.resume) return db::open_database(options.db_path, db::OpenMode::read_write);
+        if (resumed) return std::move(*resumed);
         // the run row is written under a temporary name and moved into place whole
         {
             db::OutputDatabase output(options.db_path, options.force);
