@@ -1,10 +1,6 @@
 // stepstone campaign and stepstone stats, end to end on tiny campaigns.
 #include <catch2/catch.hpp>
 
-#include <signal.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <chrono>
 #include <map>
 #include <thread>
@@ -120,20 +116,9 @@ TEST_CASE("a campaign killed mid-way and resumed gives the digests of an uninter
     REQUIRE(campaign(dir, "whole", {"--jobs", "2"}).exit_code == 0);
 
     const auto killed = dir / "killed";
-    const pid_t pid = ::fork();
-    REQUIRE(pid >= 0);
-    if (pid == 0) {
-        ::execl(STEPSTONE_BINARY, STEPSTONE_BINARY, "campaign", (dir / "c.json").c_str(), "--dir", killed.c_str(),
-                "--jobs", "1", "--quiet", static_cast<char*>(nullptr));
-        ::_exit(127);
-    }
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
-    while (finished_runs(killed) < 4 && std::chrono::steady_clock::now() < deadline) {
-        std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    }
-    ::kill(pid, SIGKILL);
-    int status = 0;
-    ::waitpid(pid, &status, 0);
+    test::run_cli_killed_when({"campaign", (dir / "c.json").string(), "--dir", killed.string(), "--jobs", "1",
+                               "--quiet"},
+                              [&] { return finished_runs(killed) >= 4; });
     const auto done_before = finished_runs(killed);
     CHECK(done_before >= 4);
     CHECK(done_before < 11);

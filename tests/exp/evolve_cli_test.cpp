@@ -1,9 +1,5 @@
 #include <catch2/catch.hpp>
 
-#include <signal.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <chrono>
 #include <thread>
@@ -46,21 +42,10 @@ TEST_CASE("evolve killed with SIGKILL mid-run resumes to the digest of an uninte
     test::write_file(dir / "c.json", kConfig);
     const auto killed = dir / "killed.db";
 
-    const pid_t pid = ::fork();
-    REQUIRE(pid >= 0);
-    if (pid == 0) {
-        ::execl(STEPSTONE_BINARY, STEPSTONE_BINARY, "evolve", "--config", (dir / "c.json").c_str(), "--db",
-                killed.c_str(), "--threads", "2", "--quiet", static_cast<char*>(nullptr));
-        ::_exit(127);
-    }
     // wait until a few generations are committed, then kill without warning
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
-    while (generations_done(killed) < 3 && std::chrono::steady_clock::now() < deadline) {
-        std::this_thread::sleep_for(std::chrono::milliseconds(5));
-    }
-    ::kill(pid, SIGKILL);
-    int status = 0;
-    ::waitpid(pid, &status, 0);
+    test::run_cli_killed_when({"evolve", "--config", (dir / "c.json").string(), "--db", killed.string(), "--threads",
+                               "2", "--quiet"},
+                              [&] { return generations_done(killed) >= 3; });
     const int done_at_kill = generations_done(killed);
     INFO("generations committed when killed: " << done_at_kill);
     CHECK(done_at_kill >= 3);

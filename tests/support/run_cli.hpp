@@ -1,6 +1,8 @@
 #pragma once
 
+#include <chrono>
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -18,5 +20,12 @@ struct CliResult {
 /// Runs the stepstone binary built with the tests with `args`, in `cwd`
 /// (the current directory if empty), with no standard input.
 CliResult run_cli(const std::vector<std::string>& args, const std::filesystem::path& cwd = {});
+
+/// Starts the stepstone binary with `args` (output discarded), waits until
+/// `ready()` holds (polled every 5 ms, at most `timeout`), kills it with
+/// SIGKILL and reaps it: a crash at an arbitrary moment. Returns whether
+/// `ready()` held before the kill.
+bool run_cli_killed_when(const std::vector<std::string>& args, const std::function<bool()>& ready,
+                         std::chrono::seconds timeout = std::chrono::seconds(120));
 
 }  // namespace stepstone::test
