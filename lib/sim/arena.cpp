@@ -164,15 +164,81 @@ void Arena::ray_distances(double x, double y, const double (&directions)[3][2], 
     const Slots& s = slots(door_open);
     const auto ox = static_cast<float>(x);
     const auto oy = static_cast<float>(y);
+    // the float components with ray_distance's guard against a zero component
+    float components[6];
+    for (std::size_t r = 0; r < 3; ++r) {
+        for (std::size_t a = 0; a < 2; ++a) {
+            const double d = directions[r][a];
+            components[2 * r + a] = std::fabs(d) < 1e-30 ? 1e-30f : static_cast<float>(d);
+        }
+    }
+    constexpr float kNone = 1e30f;
+#if defined(__SSE__)
+    // ray_distance's slab test, every float operation the same, with three
+    // shortcuts that leave each value's bits alone: one division instruction
+    // takes four inverses; the offsets to each slot are shared by the rays;
+    // and as a box's x0 < x1, the slab entry min(tx0, tx1) is tx0 when the
+    // inverse is positive and tx1 when it is negative (the inverse is never
+    // 0 and the two products are never both zero), so the entry and exit
+    // need no min or max. The intrinsics' operand order follows std::min and
+    // std::max: min(a, b) is _mm_min_ps(b, a), max(a, b) is _mm_max_ps(b, a).
+    // (the vectors are assembled in registers: a vector load of scalars
+    // just stored would stall on store forwarding)
+    alignas(16) float inverses[8];
+    const __m128 one = _mm_set1_ps(1.0f);
+    _mm_store_ps(inverses,
+                 _mm_div_ps(one, _mm_setr_ps(components[0], components[1], components[2], components[3])));
+    _mm_store_ps(inverses + 4, _mm_div_ps(one, _mm_setr_ps(components[4], components[5], 1.0f, 1.0f)));
+
+    constexpr std::size_t kVectors = kSlots / 4;
+    const __m128 vox = _mm_set1_ps(ox);
+    const __m128 voy = _mm_set1_ps(oy);
+    __m128 ax0[kVectors], ax1[kVectors], ay0[kVectors], ay1[kVectors];
+    for (std::size_t v = 0; v < kVectors; ++v) {
+        ax0[v] = _mm_sub_ps(_mm_load_ps(&s.x0[4 * v]), vox);
+        ax1[v] = _mm_sub_ps(_mm_load_ps(&s.x1[4 * v]), vox);
+        ay0[v] = _mm_sub_ps(_mm_load_ps(&s.y0[4 * v]), voy);
+        ay1[v] = _mm_sub_ps(_mm_load_ps(&s.y1[4 * v]), voy);
+    }
+    const __m128 zero = _mm_setzero_ps();
+    const __m128 none = _mm_set1_ps(kNone);
+    for (std::size_t r = 0; r < 3; ++r) {
+        const float rx = inverses[2 * r];
+        const float ry = inverses[2 * r + 1];
+        const __m128* near_x = rx > 0.0f ? ax0 : ax1;
+        const __m128* far_x = rx > 0.0f ? ax1 : ax0;
+        const __m128* near_y = ry > 0.0f ? ay0 : ay1;
+        const __m128* far_y = ry > 0.0f ? ay1 : ay0;
+        const __m128 vrx = _mm_set1_ps(rx);
+        const __m128 vry = _mm_set1_ps(ry);
+        alignas(16) float hit[kSlots];
+        __m128 best = none;
+        for (std::size_t v = 0; v < kVectors; ++v) {
+            const __m128 enter = _mm_max_ps(_mm_mul_ps(near_y[v], vry), _mm_mul_ps(near_x[v], vrx));
+            const __m128 leave = _mm_min_ps(_mm_mul_ps(far_y[v], vry), _mm_mul_ps(far_x[v], vrx));
+            const __m128 crossed = _mm_and_ps(_mm_cmple_ps(enter, leave), _mm_cmpge_ps(leave, zero));
+            const __m128 t = _mm_or_ps(_mm_and_ps(crossed, _mm_max_ps(zero, enter)), _mm_andnot_ps(crossed, none));
+            _mm_store_ps(hit + 4 * v, t);
+            best = _mm_min_ps(best, t);
+        }
+        best = _mm_min_ps(best, _mm_movehl_ps(best, best));
+        best = _mm_min_ss(best, _mm_shuffle_ps(best, best, 1));
+        float nearest = _mm_cvtss_f32(best);
+        // the lanes' minimum in any order is the sequential one except for
+        // the sign of a zero, which is the first zero's in slot order
+        if (nearest == 0.0f) {
+            nearest = kNone;
+            for (const float t : hit) nearest = std::min(nearest, t);
+        }
+        out[r] = static_cast<double>(nearest) <= range ? static_cast<double>(nearest) : -1.0;
+    }
+#else
     float ix[3];
     float iy[3];
     for (std::size_t r = 0; r < 3; ++r) {
-        const double dx = directions[r][0];
-        const double dy = directions[r][1];
-        ix[r] = 1.0f / (std::fabs(dx) < 1e-30 ? 1e-30f : static_cast<float>(dx));
-        iy[r] = 1.0f / (std::fabs(dy) < 1e-30 ? 1e-30f : static_cast<float>(dy));
+        ix[r] = 1.0f / components[2 * r];
+        iy[r] = 1.0f / components[2 * r + 1];
     }
-    constexpr float kNone = 1e30f;
 
     // ray_distance's slab test with the offsets to each slot shared by the
     // three rays; every float operation is the one ray_distance performs
@@ -202,6 +268,7 @@ void Arena::ray_distances(double x, double y, const double (&directions)[3][2], 
         for (float t : hit[r]) best = std::min(best, t);
         out[r] = static_cast<double>(best) <= range ? static_cast<double>(best) : -1.0;
     }
+#endif
 }
 
 namespace {

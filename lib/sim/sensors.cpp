@@ -32,6 +32,19 @@ Window window_of(double angle) {
 
 const Window kWindows[2] = {window_of(kLightSensorAngles[0]), window_of(kLightSensorAngles[1])};
 
+// The -pi/4 window is the +pi/4 one mirrored: its edges are at exactly
+// minus the other's (angle -a +- w/2 rounds to -(a -+ w/2)), and cos and sin
+// are even and odd bit for bit, so its edge vectors are the other's with the
+// y components negated. Then the four cross products share two pairs of
+// products: with A = lo_y u, B = lo_x v, P = hi_y u, Q = hi_x v (the +pi/4
+// window's edges), the +pi/4 tests are B - A > 0 and P - Q > 0, the -pi/4
+// ones Q - (-P) > 0 and (-A) - B > 0, and a difference of two finite
+// doubles is positive exactly when the first is larger.
+bool same_bits(double a, double b) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b); }
+
+const bool kMirrored = same_bits(kWindows[1].lo_x, kWindows[0].hi_x) && same_bits(kWindows[1].lo_y, -kWindows[0].hi_y) &&
+                       same_bits(kWindows[1].hi_x, kWindows[0].lo_x) && same_bits(kWindows[1].hi_y, -kWindows[0].lo_y);
+
 // bit i set when a[i] > 0 and b[i] > 0: inside()'s two tests, slot by slot
 std::uint32_t positive_pairs(const std::array<double, kMaxLights>& a, const std::array<double, kMaxLights>& b) {
     std::uint32_t bits = 0;
@@ -252,25 +265,60 @@ void sense(const Arena& arena, const SightTable& sight, const Pose& pose, const 
     if (lit == 0) return;
     const auto& xs = sight.xs();
     const auto& ys = sight.ys();
-    // the window edges' cross products for every padded slot, in a loop the
-    // compiler vectorises; their signs become the light masks below, and the
-    // lit mask drops the slots that hold no lit light
-    alignas(64) std::array<double, kMaxLights> plus_lo;
-    alignas(64) std::array<double, kMaxLights> plus_hi;
-    alignas(64) std::array<double, kMaxLights> minus_lo;
-    alignas(64) std::array<double, kMaxLights> minus_hi;
-    for (std::size_t i = 0; i < static_cast<std::size_t>(kMaxLights); ++i) {
-        const double dx = xs[i] - pose.x;
-        const double dy = ys[i] - pose.y;
-        const double u = dx * c + dy * s;
-        const double v = dy * c - dx * s;
-        plus_lo[i] = kWindows[0].lo_x * v - kWindows[0].lo_y * u;
-        plus_hi[i] = u * kWindows[0].hi_y - v * kWindows[0].hi_x;
-        minus_lo[i] = kWindows[1].lo_x * v - kWindows[1].lo_y * u;
-        minus_hi[i] = u * kWindows[1].hi_y - v * kWindows[1].hi_x;
+    std::uint32_t plus = 0;
+    std::uint32_t minus = 0;
+#if defined(__SSE2__)
+    if (kMirrored) {
+        // the window tests of two slots per vector, up to the last light
+        const __m128d vc = _mm_set1_pd(c);
+        const __m128d vs = _mm_set1_pd(s);
+        const __m128d px = _mm_set1_pd(pose.x);
+        const __m128d py = _mm_set1_pd(pose.y);
+        const __m128d lo_x = _mm_set1_pd(kWindows[0].lo_x);
+        const __m128d lo_y = _mm_set1_pd(kWindows[0].lo_y);
+        const __m128d hi_x = _mm_set1_pd(kWindows[0].hi_x);
+        const __m128d hi_y = _mm_set1_pd(kWindows[0].hi_y);
+        const __m128d sign = _mm_set1_pd(-0.0);
+        const std::size_t count = sight.lights().size();
+        for (std::size_t i = 0; i < count; i += 2) {
+            const __m128d dx = _mm_sub_pd(_mm_loadu_pd(&xs[i]), px);
+            const __m128d dy = _mm_sub_pd(_mm_loadu_pd(&ys[i]), py);
+            const __m128d u = _mm_add_pd(_mm_mul_pd(dx, vc), _mm_mul_pd(dy, vs));
+            const __m128d v = _mm_sub_pd(_mm_mul_pd(dy, vc), _mm_mul_pd(dx, vs));
+            const __m128d a = _mm_mul_pd(lo_y, u);
+            const __m128d b = _mm_mul_pd(lo_x, v);
+            const __m128d p = _mm_mul_pd(hi_y, u);
+            const __m128d q = _mm_mul_pd(hi_x, v);
+            const __m128d in_plus = _mm_and_pd(_mm_cmpgt_pd(b, a), _mm_cmpgt_pd(p, q));
+            const __m128d in_minus = _mm_and_pd(_mm_cmpgt_pd(q, _mm_xor_pd(p, sign)), _mm_cmpgt_pd(_mm_xor_pd(a, sign), b));
+            plus |= static_cast<std::uint32_t>(_mm_movemask_pd(in_plus)) << i;
+            minus |= static_cast<std::uint32_t>(_mm_movemask_pd(in_minus)) << i;
+        }
+    } else
+#endif
+    {
+        // the window edges' cross products for every padded slot, in a loop
+        // the compiler vectorises; their signs become the light masks below
+        alignas(64) std::array<double, kMaxLights> plus_lo;
+        alignas(64) std::array<double, kMaxLights> plus_hi;
+        alignas(64) std::array<double, kMaxLights> minus_lo;
+        alignas(64) std::array<double, kMaxLights> minus_hi;
+        for (std::size_t i = 0; i < static_cast<std::size_t>(kMaxLights); ++i) {
+            const double dx = xs[i] - pose.x;
+            const double dy = ys[i] - pose.y;
+            const double u = dx * c + dy * s;
+            const double v = dy * c - dx * s;
+            plus_lo[i] = kWindows[0].lo_x * v - kWindows[0].lo_y * u;
+            plus_hi[i] = u * kWindows[0].hi_y - v * kWindows[0].hi_x;
+            minus_lo[i] = kWindows[1].lo_x * v - kWindows[1].lo_y * u;
+            minus_hi[i] = u * kWindows[1].hi_y - v * kWindows[1].hi_x;
+        }
+        plus = positive_pairs(plus_lo, plus_hi);
+        minus = positive_pairs(minus_lo, minus_hi);
     }
-    const std::uint32_t plus = positive_pairs(plus_lo, plus_hi) & lit;
-    const std::uint32_t minus = positive_pairs(minus_lo, minus_hi) & lit;
+    // the lit mask drops the slots that hold no lit light
+    plus &= lit;
+    minus &= lit;
     if ((plus | minus) == 0) return;
 
     const SightTable::Cell cell = sight.cell(pose.x, pose.y, state.door_open);
