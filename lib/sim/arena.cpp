@@ -8,6 +8,7 @@
 #endif
 
 #include "core/assert.hpp"
+#include "sim/cos_sin.hpp"
 #include "sim/units.hpp"
 
 namespace stepstone::sim {
@@ -66,23 +67,18 @@ double clamp(double v, double lo, double hi) { return v < lo ? lo : (v > hi ? hi
 // a direction component of exactly 0 would make 0 * inf = NaN in the slab test
 double safe_inverse(double d) { return 1.0 / (d == 0.0 ? 1e-300 : d); }
 
-// the bearing range [lo, hi] (radians, relative to `reference`) under which
-// the centre sees the part of the box inside the disc; extremes of a convex
-// region are at its vertices: box corners in the disc and edge/circle crossings
-void overlap_bearings(const WallBox& box, double cx, double cy, double reference, double& lo, double& hi) {
+// the vertices of the region where the disc centred at (cx, cy) overlaps the
+// box: box corners inside the disc and edge/circle crossings; `vertex(dx, dy)`
+// gets each one's offset from the centre. The extremes of the region's
+// bearings (it is convex) are at these vertices.
+template <class Vertex>
+void overlap_vertices(const WallBox& box, double cx, double cy, Vertex&& vertex) {
     const double r2 = kRobotRadius * kRobotRadius;
-    lo = 0.0;
-    hi = 0.0;
-    auto consider = [&](double px, double py) {
-        const double rel = normalize_angle(std::atan2(py - cy, px - cx) - reference);
-        lo = std::min(lo, rel);
-        hi = std::max(hi, rel);
-    };
     const double xs[2] = {box.x0, box.x1};
     const double ys[2] = {box.y0, box.y1};
     for (double x : xs) {
         for (double y : ys) {
-            if ((x - cx) * (x - cx) + (y - cy) * (y - cy) < r2) consider(x, y);
+            if ((x - cx) * (x - cx) + (y - cy) * (y - cy) < r2) vertex(x - cx, y - cy);
         }
     }
     for (double x : xs) {  // vertical edges
@@ -90,7 +86,7 @@ void overlap_bearings(const WallBox& box, double cx, double cy, double reference
         if (h2 <= 0.0) continue;
         const double h = std::sqrt(h2);
         for (double y : {cy - h, cy + h}) {
-            if (y >= box.y0 && y <= box.y1) consider(x, y);
+            if (y >= box.y0 && y <= box.y1) vertex(x - cx, y - cy);
         }
     }
     for (double y : ys) {  // horizontal edges
@@ -98,9 +94,21 @@ void overlap_bearings(const WallBox& box, double cx, double cy, double reference
         if (h2 <= 0.0) continue;
         const double h = std::sqrt(h2);
         for (double x : {cx - h, cx + h}) {
-            if (x >= box.x0 && x <= box.x1) consider(x, y);
+            if (x >= box.x0 && x <= box.x1) vertex(x - cx, y - cy);
         }
     }
+}
+
+// the bearing range [lo, hi] (radians, relative to `reference`) under which
+// the centre sees the part of the box inside the disc
+void overlap_bearings(const WallBox& box, double cx, double cy, double reference, double& lo, double& hi) {
+    lo = 0.0;
+    hi = 0.0;
+    overlap_vertices(box, cx, cy, [&](double dx, double dy) {
+        const double rel = normalize_angle(std::atan2(dy, dx) - reference);
+        lo = std::min(lo, rel);
+        hi = std::max(hi, rel);
+    });
 }
 
 // true when the bearing interval [lo, hi] (radians, any winding) meets the open interval (a, b)
@@ -326,7 +334,70 @@ bool Arena::disc_overlaps(double x, double y, bool door_open) const {
     return near_slots(x, y, door_open).overlap != 0;
 }
 
-Contact Arena::contact(const Pose& pose, bool door_open) const {
+namespace {
+
+// the bumpers of one wall the disc overlaps without containing the centre
+// ((px, py) is the wall's point closest to it): the bearing range of the
+// overlap region from atan2, relative to the closest point's bearing (which
+// lies inside it), then whether it meets each quarter
+void bumpers_by_angles(const WallBox& box, const Pose& pose, double px, double py, bool& left, bool& right) {
+    const double closest = std::atan2(py - pose.y, px - pose.x);
+    double lo = 0.0;
+    double hi = 0.0;
+    overlap_bearings(box, pose.x, pose.y, closest, lo, hi);
+    const double base = normalize_angle(closest - pose.heading);
+    left = meets(base + lo, base + hi, 0.0, kPi / 2);
+    right = meets(base + lo, base + hi, -kPi / 2, 0.0);
+}
+
+// bumpers_by_angles' answer without atan2, or false when it cannot be sure
+// of it. In the robot frame (u forward, v towards positive bearings, from the
+// heading's cosine c and sine s), each vertex of the overlap region and the
+// closest point fall in a quarter by the signs of u and v. The region's
+// bearings form an arc shorter than pi (all lie within pi/2 of the closest
+// point's), whose ends are vertices; it meets the open quarter (0, pi/2) when
+// a vertex lies in it, or when the arc runs from a vertex in (-pi/2, 0)
+// counter-clockwise to one in (pi/2, pi) (the cross product of their offsets
+// is positive); (-pi/2, 0) likewise. Every sign is taken only when it is
+// clear by a relative margin of 1e-9, far above the rounding of both this
+// arithmetic and atan2's, so the answer is the one atan2's bearings give;
+// a vertex within the margin of a quarter's edge leaves it to atan2.
+bool bumpers_by_quarters(const WallBox& box, const Pose& pose, double c, double s, double px, double py, bool& left,
+                         bool& right) {
+    constexpr double kMargin = 1e-9;
+    struct Offset {
+        double dx, dy;
+    };
+    Offset in[4] = {};  // an offset seen in each quarter: (0, pi/2), (pi/2, pi), (-pi, -pi/2), (-pi/2, 0)
+    unsigned seen = 0;
+    bool sure = true;
+    auto classify = [&](double dx, double dy) {
+        const double u = dx * c + dy * s;
+        const double v = dy * c - dx * s;
+        const double margin = kMargin * (std::fabs(u) + std::fabs(v));
+        sure = sure && std::fabs(u) > margin && std::fabs(v) > margin;
+        const unsigned quarter = u > 0.0 ? (v > 0.0 ? 0u : 3u) : (v > 0.0 ? 1u : 2u);
+        seen |= 1u << quarter;
+        in[quarter] = {dx, dy};
+    };
+    classify(px - pose.x, py - pose.y);
+    overlap_vertices(box, pose.x, pose.y, classify);
+    // true when the arc from a's bearing counter-clockwise to b's is shorter than pi
+    auto counter_clockwise = [&](const Offset& a, const Offset& b) {
+        const double cross = a.dx * b.dy - a.dy * b.dx;
+        const double margin = kMargin * (std::fabs(a.dx) + std::fabs(a.dy)) * (std::fabs(b.dx) + std::fabs(b.dy));
+        sure = sure && std::fabs(cross) > margin;
+        return cross > 0.0;
+    };
+    left = (seen & 1u) != 0 || ((seen & 0b1010u) == 0b1010u && counter_clockwise(in[3], in[1]));
+    right = (seen & 8u) != 0 || ((seen & 0b0101u) == 0b0101u && counter_clockwise(in[2], in[0]));
+    return sure;
+}
+
+}  // namespace
+
+template <bool kByAngles>
+Contact Arena::contact_with(const Pose& pose, bool door_open) const {
     Contact result;
     const Near near = near_slots(pose.x, pose.y, door_open);
     if (near.overlap == 0) return result;
@@ -351,16 +422,26 @@ Contact Arena::contact(const Pose& pose, bool door_open) const {
             continue;
         }
 
-        // the closest point's bearing lies inside the overlap's bearing range
-        const double closest = std::atan2(py - pose.y, px - pose.x);
-        double lo = 0.0;
-        double hi = 0.0;
-        overlap_bearings(box, pose.x, pose.y, closest, lo, hi);
-        const double base = normalize_angle(closest - pose.heading);
-        result.left = result.left || meets(base + lo, base + hi, 0.0, kPi / 2);
-        result.right = result.right || meets(base + lo, base + hi, -kPi / 2, 0.0);
+        bool left = false;
+        bool right = false;
+        // (a centre within 1e-10 of the wall is left to atan2: the offsets
+        // stay far from underflow)
+        bool sure = false;
+        if constexpr (!kByAngles) {
+            if (d2 > 1e-20) {
+                const CosSin heading = cos_sin(pose.heading);
+                sure = bumpers_by_quarters(box, pose, heading.c, heading.s, px, py, left, right);
+            }
+        }
+        if (!sure) bumpers_by_angles(box, pose, px, py, left, right);
+        result.left = result.left || left;
+        result.right = result.right || right;
     }
     return result;
 }
+
+Contact Arena::contact(const Pose& pose, bool door_open) const { return contact_with<false>(pose, door_open); }
+
+Contact Arena::contact_by_angles(const Pose& pose, bool door_open) const { return contact_with<true>(pose, door_open); }
 
 }  // namespace stepstone::sim

@@ -63,6 +63,10 @@ public:
     /// Overlap test plus the bumpers: the bearing range, relative to the pose's
     /// heading, of each overlap region between the disc and a wall.
     Contact contact(const Pose& pose, bool door_open) const;
+    /// contact() with every bearing from atan2, as first written; contact()
+    /// decides most bumpers from signs of products instead, with the same
+    /// answer (tests compare the two).
+    Contact contact_by_angles(const Pose& pose, bool door_open) const;
 
 private:
     // single precision: four slots per SSE register; errors stay near 1e-4 units
@@ -76,6 +80,8 @@ private:
         std::uint32_t near;
     };
     Near near_slots(double x, double y, bool door_open) const;
+    template <bool kByAngles>
+    Contact contact_with(const Pose& pose, bool door_open) const;
 
     std::array<WallBox, kSlots> walls_{};
     int wall_count_ = 0;

@@ -104,3 +104,51 @@ TEST_CASE("contact far off the map falls back to every wall and agrees with the 
     CHECK_FALSE(far.left);
     CHECK_FALSE(far.right);
 }
+
+TEST_CASE("bumpers from the quarters' signs equal those from atan2 bearings", "[sim][arena][fast]") {
+    const Arena arena;
+    const auto walls = arena.walls();
+    stepstone::Rng rng(13);
+    int contacts = 0;
+    int left = 0;
+    int right = 0;
+    for (int i = 0; i < 300'000; ++i) {
+        // near an edge or a corner of a random wall
+        const WallBox& wall = walls[static_cast<std::size_t>(rng.below(walls.size()))];
+        Pose pose{rng.uniform(wall.x0 - 21.0, wall.x1 + 21.0), rng.uniform(wall.y0 - 21.0, wall.y1 + 21.0), 0.0};
+        if (i % 5 == 0) pose.x = (rng.bernoulli(0.5) ? wall.x0 : wall.x1) + rng.uniform(-21.0, 21.0);
+        if (i % 5 == 1) pose.y = (rng.bernoulli(0.5) ? wall.y0 : wall.y1) + rng.uniform(-21.0, 21.0);
+        switch (i % 4) {
+        case 0:  // any heading
+            pose.heading = rng.uniform(-kPi, kPi);
+            break;
+        case 1:  // along an axis or a diagonal: vertices on a quarter's edge
+            pose.heading = normalize_angle(static_cast<double>(rng.below(8)) * kPi / 4);
+            break;
+        case 2: {  // towards a corner of the wall, or square to it, give or take a little
+            const double cx = rng.bernoulli(0.5) ? wall.x0 : wall.x1;
+            const double cy = rng.bernoulli(0.5) ? wall.y0 : wall.y1;
+            const double jitter = rng.bernoulli(0.5) ? 0.0 : rng.uniform(-1e-8, 1e-8);
+            pose.heading = normalize_angle(std::atan2(cy - pose.y, cx - pose.x) +
+                                           static_cast<double>(rng.below(4)) * kPi / 2 + jitter);
+            break;
+        }
+        default:  // a tiny angle either side of an axis
+            pose.heading = normalize_angle(static_cast<double>(rng.below(4)) * kPi / 2 + rng.uniform(-1e-9, 1e-9));
+            break;
+        }
+        if (i % 7 == 0) pose.y = wall.y0 - (20.0 - std::ldexp(1.0, -static_cast<int>(rng.below(40))));  // grazing
+        const bool door_open = rng.bernoulli(0.5);
+        const Contact fast = arena.contact(pose, door_open);
+        const Contact exact = arena.contact_by_angles(pose, door_open);
+        REQUIRE(fast.hit == exact.hit);
+        REQUIRE(fast.left == exact.left);
+        REQUIRE(fast.right == exact.right);
+        contacts += fast.hit ? 1 : 0;
+        left += fast.left ? 1 : 0;
+        right += fast.right ? 1 : 0;
+    }
+    CHECK(contacts > 100'000);
+    CHECK(left > 30'000);
+    CHECK(right > 30'000);
+}
