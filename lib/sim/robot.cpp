@@ -9,21 +9,33 @@
 
 namespace stepstone::sim {
 
-CosSin cos_sin(double angle) {
-    struct Memo {
-        bool valid = false;
-        std::uint64_t bits = 0;
-        CosSin value;
-    };
-    thread_local Memo memo;
-    const auto bits = std::bit_cast<std::uint64_t>(angle);
-    if (!memo.valid || memo.bits != bits) {
-        memo.value = {std::cos(angle), std::sin(angle)};
-        memo.bits = bits;
-        memo.valid = true;
+namespace {
+
+// std::cos and std::sin of the last angle asked, compared bit for bit
+struct Memo {
+    bool valid = false;
+    std::uint64_t bits = 0;
+    CosSin value;
+
+    CosSin get(double angle) {
+        const auto angle_bits = std::bit_cast<std::uint64_t>(angle);
+        if (!valid || bits != angle_bits) {
+            value = {std::cos(angle), std::sin(angle)};
+            bits = angle_bits;
+            valid = true;
+        }
+        return value;
     }
-    return memo.value;
-}
+};
+
+thread_local Memo heading_memo;
+// the arc angle of the last curved move: a controller holding its outputs
+// (or saturating them) turns by the same angle step after step
+thread_local Memo turn_memo;
+
+}  // namespace
+
+CosSin cos_sin(double angle) { return heading_memo.get(angle); }
 
 double normalize_angle(double angle) {
     // headings change by at most 0.2 rad per step, so one wrap is the common case
@@ -47,8 +59,9 @@ Pose move_pose(const Pose& pose, double left, double right) {
     // an arc about the instantaneous centre, computed in the robot frame
     // (forward = local +y) and rotated by heading - pi/2 into the world
     const double radius = left / alpha + kWheelBase / 2.0;
-    const double local_x = (std::cos(alpha) - 1.0) * radius;
-    const double local_y = std::sin(alpha) * radius;
+    const CosSin turn = turn_memo.get(alpha);
+    const double local_x = (turn.c - 1.0) * radius;
+    const double local_y = turn.s * radius;
     const double c = std::cos(pose.heading - kPi / 2.0);
     const double s = std::sin(pose.heading - kPi / 2.0);
     next.x += local_x * c - local_y * s;
