@@ -3,7 +3,10 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
-#if defined(__SSE__)
+#if defined(__x86_64__) || defined(__i386__)
+#define STEPSTONE_SIM_HAVE_AVX2_KERNEL 1
+#include <immintrin.h>
+#elif defined(__SSE__)
 #include <xmmintrin.h>
 #endif
 
@@ -119,7 +122,83 @@ bool meets(double lo, double hi, double a, double b) {
     return false;
 }
 
+bool cpu_has_avx2() {
+#ifdef STEPSTONE_SIM_HAVE_AVX2_KERNEL
+    __builtin_cpu_init();
+    return __builtin_cpu_supports("avx2");
+#else
+    return false;
+#endif
+}
+
+bool g_avx2 = cpu_has_avx2();
+
+#ifdef STEPSTONE_SIM_HAVE_AVX2_KERNEL
+// ray_distances' SSE kernel in AVX2: slots 0-7 in one vector, 8-11 in a
+// half one, every lane's operations the same. One self-contained function
+// (no helper takes or returns a vector), so no 32-byte vector crosses into
+// baseline code.
+[[gnu::target("avx2")]] void rays_avx2(const float* x0, const float* y0, const float* x1, const float* y1, float ox,
+                                       float oy, const float* inverses, float none, double range, double* out) {
+    static_assert(Arena::kSlots == 12);
+    alignas(32) float ax0[12], ax1[12], ay0[12], ay1[12];
+    const __m256 vox = _mm256_set1_ps(ox);
+    const __m256 voy = _mm256_set1_ps(oy);
+    _mm256_store_ps(ax0, _mm256_sub_ps(_mm256_loadu_ps(x0), vox));
+    _mm256_store_ps(ax1, _mm256_sub_ps(_mm256_loadu_ps(x1), vox));
+    _mm256_store_ps(ay0, _mm256_sub_ps(_mm256_loadu_ps(y0), voy));
+    _mm256_store_ps(ay1, _mm256_sub_ps(_mm256_loadu_ps(y1), voy));
+    _mm_store_ps(ax0 + 8, _mm_sub_ps(_mm_loadu_ps(x0 + 8), _mm256_castps256_ps128(vox)));
+    _mm_store_ps(ax1 + 8, _mm_sub_ps(_mm_loadu_ps(x1 + 8), _mm256_castps256_ps128(vox)));
+    _mm_store_ps(ay0 + 8, _mm_sub_ps(_mm_loadu_ps(y0 + 8), _mm256_castps256_ps128(voy)));
+    _mm_store_ps(ay1 + 8, _mm_sub_ps(_mm_loadu_ps(y1 + 8), _mm256_castps256_ps128(voy)));
+    const __m256 zero = _mm256_setzero_ps();
+    const __m256 vnone = _mm256_set1_ps(none);
+    for (std::size_t r = 0; r < 3; ++r) {
+        const float rx = inverses[2 * r];
+        const float ry = inverses[2 * r + 1];
+        const float* near_x = rx > 0.0f ? ax0 : ax1;
+        const float* far_x = rx > 0.0f ? ax1 : ax0;
+        const float* near_y = ry > 0.0f ? ay0 : ay1;
+        const float* far_y = ry > 0.0f ? ay1 : ay0;
+        const __m256 vrx = _mm256_set1_ps(rx);
+        const __m256 vry = _mm256_set1_ps(ry);
+        alignas(32) float hit[12];
+        const __m256 enter = _mm256_max_ps(_mm256_mul_ps(_mm256_load_ps(near_y), vry),
+                                           _mm256_mul_ps(_mm256_load_ps(near_x), vrx));
+        const __m256 leave = _mm256_min_ps(_mm256_mul_ps(_mm256_load_ps(far_y), vry),
+                                           _mm256_mul_ps(_mm256_load_ps(far_x), vrx));
+        const __m256 crossed =
+            _mm256_and_ps(_mm256_cmp_ps(enter, leave, _CMP_LE_OQ), _mm256_cmp_ps(leave, zero, _CMP_GE_OQ));
+        const __m256 t = _mm256_blendv_ps(vnone, _mm256_max_ps(zero, enter), crossed);
+        _mm256_store_ps(hit, t);
+        const __m128 zero4 = _mm256_castps256_ps128(zero);
+        const __m128 enter4 = _mm_max_ps(_mm_mul_ps(_mm_load_ps(near_y + 8), _mm256_castps256_ps128(vry)),
+                                         _mm_mul_ps(_mm_load_ps(near_x + 8), _mm256_castps256_ps128(vrx)));
+        const __m128 leave4 = _mm_min_ps(_mm_mul_ps(_mm_load_ps(far_y + 8), _mm256_castps256_ps128(vry)),
+                                         _mm_mul_ps(_mm_load_ps(far_x + 8), _mm256_castps256_ps128(vrx)));
+        const __m128 crossed4 = _mm_and_ps(_mm_cmp_ps(enter4, leave4, _CMP_LE_OQ), _mm_cmp_ps(leave4, zero4, _CMP_GE_OQ));
+        const __m128 t4 =
+            _mm_blendv_ps(_mm256_castps256_ps128(vnone), _mm_max_ps(zero4, enter4), crossed4);
+        _mm_store_ps(hit + 8, t4);
+        __m128 best = _mm_min_ps(_mm_min_ps(_mm256_castps256_ps128(t), _mm256_extractf128_ps(t, 1)), t4);
+        best = _mm_min_ps(best, _mm_movehl_ps(best, best));
+        best = _mm_min_ss(best, _mm_shuffle_ps(best, best, 1));
+        float nearest = _mm_cvtss_f32(best);
+        if (nearest == 0.0f) {
+            nearest = none;
+            for (const float h : hit) nearest = std::min(nearest, h);
+        }
+        out[r] = static_cast<double>(nearest) <= range ? static_cast<double>(nearest) : -1.0;
+    }
+}
+#endif
+
 }  // namespace
+
+bool avx2_kernels() { return g_avx2; }
+
+void set_avx2_kernels(bool on) { g_avx2 = on && cpu_has_avx2(); }
 
 Arena::Arena() {
     wall_count_ = static_cast<int>(kWalls.size());
@@ -197,6 +276,11 @@ void Arena::ray_distances(double x, double y, const double (&directions)[3][2], 
     _mm_store_ps(inverses,
                  _mm_div_ps(one, _mm_setr_ps(components[0], components[1], components[2], components[3])));
     _mm_store_ps(inverses + 4, _mm_div_ps(one, _mm_setr_ps(components[4], components[5], 1.0f, 1.0f)));
+#ifdef STEPSTONE_SIM_HAVE_AVX2_KERNEL
+    if (g_avx2) {
+        return rays_avx2(s.x0.data(), s.y0.data(), s.x1.data(), s.y1.data(), ox, oy, inverses, kNone, range, out);
+    }
+#endif
 
     constexpr std::size_t kVectors = kSlots / 4;
     const __m128 vox = _mm_set1_ps(ox);

@@ -9,6 +9,14 @@
 
 namespace stepstone::sim {
 
+/// Whether the hot path uses its AVX2 kernels (lasers and light windows):
+/// by default, when the CPU has AVX2. They compute the same bits as the SSE2
+/// ones; tests switch them off to check those too.
+bool avx2_kernels();
+/// Turns the AVX2 kernels off, or back on where the CPU has AVX2. Not
+/// synchronised: call it only while no simulation runs.
+void set_avx2_kernels(bool on);
+
 /// An axis-aligned wall box [x0, x1) x [y0, y1), in units.
 struct WallBox {
     double x0 = 0.0;
