@@ -395,7 +395,7 @@ bool Arena::segment_blocked_by(std::uint32_t walls, double x0, double y0, double
     return false;
 }
 
-Arena::Near Arena::near_slots(double x, double y, bool door_open) const {
+inline Arena::Near Arena::near_slots(double x, double y, bool door_open) const {
     const Slots& s = slots(door_open);
     const auto cx = static_cast<float>(x);
     const auto cy = static_cast<float>(y);
@@ -420,21 +420,26 @@ bool Arena::disc_overlaps(double x, double y, bool door_open) const {
 
 namespace {
 
+// bumper bits: left (input 9), right (input 10), and the answer is sure
+constexpr unsigned kLeft = 1;
+constexpr unsigned kRight = 2;
+constexpr unsigned kSure = 4;
+
 // the bumpers of one wall the disc overlaps without containing the centre
 // ((px, py) is the wall's point closest to it): the bearing range of the
 // overlap region from atan2, relative to the closest point's bearing (which
 // lies inside it), then whether it meets each quarter
-void bumpers_by_angles(const WallBox& box, const Pose& pose, double px, double py, bool& left, bool& right) {
+unsigned bumpers_by_angles(const WallBox& box, const Pose& pose, double px, double py) {
     const double closest = std::atan2(py - pose.y, px - pose.x);
     double lo = 0.0;
     double hi = 0.0;
     overlap_bearings(box, pose.x, pose.y, closest, lo, hi);
     const double base = normalize_angle(closest - pose.heading);
-    left = meets(base + lo, base + hi, 0.0, kPi / 2);
-    right = meets(base + lo, base + hi, -kPi / 2, 0.0);
+    return (meets(base + lo, base + hi, 0.0, kPi / 2) ? kLeft : 0u) |
+           (meets(base + lo, base + hi, -kPi / 2, 0.0) ? kRight : 0u);
 }
 
-// bumpers_by_angles' answer without atan2, or false when it cannot be sure
+// bumpers_by_angles' answer without atan2, with kSure set when it is sure
 // of it. In the robot frame (u forward, v towards positive bearings, from the
 // heading's cosine c and sine s), each vertex of the overlap region and the
 // closest point fall in a quarter by the signs of u and v. The region's
@@ -446,8 +451,7 @@ void bumpers_by_angles(const WallBox& box, const Pose& pose, double px, double p
 // clear by a relative margin of 1e-9, far above the rounding of both this
 // arithmetic and atan2's, so the answer is the one atan2's bearings give;
 // a vertex within the margin of a quarter's edge leaves it to atan2.
-bool bumpers_by_quarters(const WallBox& box, const Pose& pose, double c, double s, double px, double py, bool& left,
-                         bool& right) {
+unsigned bumpers_by_quarters(const WallBox& box, const Pose& pose, double c, double s, double px, double py) {
     constexpr double kMargin = 1e-9;
     struct Offset {
         double dx, dy;
@@ -473,27 +477,24 @@ bool bumpers_by_quarters(const WallBox& box, const Pose& pose, double c, double 
         sure = sure && std::fabs(cross) > margin;
         return cross > 0.0;
     };
-    left = (seen & 1u) != 0 || ((seen & 0b1010u) == 0b1010u && counter_clockwise(in[3], in[1]));
-    right = (seen & 8u) != 0 || ((seen & 0b0101u) == 0b0101u && counter_clockwise(in[2], in[0]));
-    return sure;
+    const bool left = (seen & 1u) != 0 || ((seen & 0b1010u) == 0b1010u && counter_clockwise(in[3], in[1]));
+    const bool right = (seen & 8u) != 0 || ((seen & 0b0101u) == 0b0101u && counter_clockwise(in[2], in[0]));
+    return (left ? kLeft : 0u) | (right ? kRight : 0u) | (sure ? kSure : 0u);
 }
 
 }  // namespace
 
 template <bool kByAngles>
-Contact Arena::contact_with(const Pose& pose, bool door_open) const {
-    Contact result;
-    const Near near = near_slots(pose.x, pose.y, door_open);
-    if (near.overlap == 0) return result;
-    result.hit = true;
+Contact Arena::bumpers(const Pose& pose, bool door_open, std::uint32_t near) const {
+    unsigned sides = 0;
     const double r2 = kRobotRadius * kRobotRadius;
     // the walls the exact test below can find within the radius: those the
     // single-precision distances put within the margin, every wall far from
     // the map where single precision is too coarse for the margin
     const bool on_map = std::fabs(pose.x) < kNearRange && std::fabs(pose.y) < kNearRange;
-    std::uint32_t walls = on_map ? near.near : (1u << wall_count_) - 1u;
+    std::uint32_t walls = on_map ? near : (1u << wall_count_) - 1u;
     if (door_open) walls &= ~(1u << door_index_);
-    for (; walls != 0 && !(result.left && result.right); walls &= walls - 1) {
+    for (; walls != 0 && sides != (kLeft | kRight); walls &= walls - 1) {
         const WallBox& box = walls_[static_cast<std::size_t>(std::countr_zero(walls))];
         const double px = clamp(pose.x, box.x0, box.x1);
         const double py = clamp(pose.y, box.y0, box.y1);
@@ -502,30 +503,40 @@ Contact Arena::contact_with(const Pose& pose, bool door_open) const {
 
         // a centre inside a wall sees it all around
         if (d2 == 0.0) {
-            result.left = result.right = true;
+            sides = kLeft | kRight;
             continue;
         }
 
-        bool left = false;
-        bool right = false;
         // (a centre within 1e-10 of the wall is left to atan2: the offsets
         // stay far from underflow)
-        bool sure = false;
+        unsigned wall_sides = 0;
         if constexpr (!kByAngles) {
             if (d2 > 1e-20) {
                 const CosSin heading = cos_sin(pose.heading);
-                sure = bumpers_by_quarters(box, pose, heading.c, heading.s, px, py, left, right);
+                wall_sides = bumpers_by_quarters(box, pose, heading.c, heading.s, px, py);
             }
         }
-        if (!sure) bumpers_by_angles(box, pose, px, py, left, right);
-        result.left = result.left || left;
-        result.right = result.right || right;
+        if ((wall_sides & kSure) == 0) wall_sides = bumpers_by_angles(box, pose, px, py);
+        sides |= wall_sides & (kLeft | kRight);
     }
+    Contact result;
+    result.hit = true;
+    result.left = (sides & kLeft) != 0;
+    result.right = (sides & kRight) != 0;
     return result;
 }
 
-Contact Arena::contact(const Pose& pose, bool door_open) const { return contact_with<false>(pose, door_open); }
+// the common case, no overlap, returns before any of the bumpers' work
+Contact Arena::contact(const Pose& pose, bool door_open) const {
+    const Near near = near_slots(pose.x, pose.y, door_open);
+    if (near.overlap == 0) return Contact{};
+    return bumpers<false>(pose, door_open, near.near);
+}
 
-Contact Arena::contact_by_angles(const Pose& pose, bool door_open) const { return contact_with<true>(pose, door_open); }
+Contact Arena::contact_by_angles(const Pose& pose, bool door_open) const {
+    const Near near = near_slots(pose.x, pose.y, door_open);
+    if (near.overlap == 0) return Contact{};
+    return bumpers<true>(pose, door_open, near.near);
+}
 
 }  // namespace stepstone::sim

@@ -88,8 +88,9 @@ private:
         std::uint32_t near;
     };
     Near near_slots(double x, double y, bool door_open) const;
+    // contact() once the disc overlaps a wall; `near` as near_slots() gives it
     template <bool kByAngles>
-    Contact contact_with(const Pose& pose, bool door_open) const;
+    [[gnu::noinline]] Contact bumpers(const Pose& pose, bool door_open, std::uint32_t near) const;
 
     std::array<WallBox, kSlots> walls_{};
     int wall_count_ = 0;
