@@ -1,8 +1,6 @@
 #include "sim/robot.hpp"
 
-#include <bit>
 #include <cmath>
-#include <cstdint>
 
 #include "sim/cos_sin.hpp"
 #include "sim/units.hpp"
@@ -11,31 +9,11 @@ namespace stepstone::sim {
 
 namespace {
 
-// std::cos and std::sin of the last angle asked, compared bit for bit
-struct Memo {
-    bool valid = false;
-    std::uint64_t bits = 0;
-    CosSin value;
-
-    CosSin get(double angle) {
-        const auto angle_bits = std::bit_cast<std::uint64_t>(angle);
-        if (!valid || bits != angle_bits) {
-            value = {std::cos(angle), std::sin(angle)};
-            bits = angle_bits;
-            valid = true;
-        }
-        return value;
-    }
-};
-
-thread_local Memo heading_memo;
 // the arc angle of the last curved move: a controller holding its outputs
 // (or saturating them) turns by the same angle step after step
-thread_local Memo turn_memo;
+thread_local CosSinMemo turn_memo;
 
 }  // namespace
-
-CosSin cos_sin(double angle) { return heading_memo.get(angle); }
 
 double normalize_angle(double angle) {
     // headings change by at most 0.2 rad per step, so one wrap is the common case
