@@ -399,15 +399,6 @@ void sense(const Arena& arena, std::span<const Light> lights, const Pose& pose, 
     });
 }
 
-void fill_inputs(const SensorReadings& readings, bool bumper_left, bool bumper_right, bool carrying,
-                 float* inputs) {
-    for (std::size_t i = 0; i < 3; ++i) inputs[i] = laser_input(readings.laser[i]);
-    for (std::size_t i = 0; i < 6; ++i) inputs[3 + i] = readings.light[i] ? 1.0f : 0.0f;
-    inputs[9] = bumper_left ? 1.0f : 0.0f;
-    inputs[10] = bumper_right ? 1.0f : 0.0f;
-    inputs[11] = carrying ? 1.0f : 0.0f;
-}
-
 std::span<const char* const> channel_names() { return kChannelNames; }
 
 }  // namespace stepstone::sim
