@@ -177,7 +177,8 @@ bool g_avx2 = cpu_has_avx2();
                                          _mm_mul_ps(_mm_load_ps(near_x + 8), _mm256_castps256_ps128(vrx)));
         const __m128 leave4 = _mm_min_ps(_mm_mul_ps(_mm_load_ps(far_y + 8), _mm256_castps256_ps128(vry)),
                                          _mm_mul_ps(_mm_load_ps(far_x + 8), _mm256_castps256_ps128(vrx)));
-        const __m128 crossed4 = _mm_and_ps(_mm_cmp_ps(enter4, leave4, _CMP_LE_OQ), _mm_cmp_ps(leave4, zero4, _CMP_GE_OQ));
+        const __m128 crossed4 =
+            _mm_and_ps(_mm_cmp_ps(enter4, leave4, _CMP_LE_OQ), _mm_cmp_ps(leave4, zero4, _CMP_GE_OQ));
         const __m128 t4 =
             _mm_blendv_ps(_mm256_castps256_ps128(vnone), _mm_max_ps(zero4, enter4), crossed4);
         _mm_store_ps(hit + 8, t4);

@@ -45,8 +45,9 @@ const Window kWindows[2] = {window_of(kLightSensorAngles[0]), window_of(kLightSe
 // doubles is positive exactly when the first is larger.
 bool same_bits(double a, double b) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b); }
 
-const bool kMirrored = same_bits(kWindows[1].lo_x, kWindows[0].hi_x) && same_bits(kWindows[1].lo_y, -kWindows[0].hi_y) &&
-                       same_bits(kWindows[1].hi_x, kWindows[0].lo_x) && same_bits(kWindows[1].hi_y, -kWindows[0].lo_y);
+const bool kMirrored =
+    same_bits(kWindows[1].lo_x, kWindows[0].hi_x) && same_bits(kWindows[1].lo_y, -kWindows[0].hi_y) &&
+    same_bits(kWindows[1].hi_x, kWindows[0].lo_x) && same_bits(kWindows[1].hi_y, -kWindows[0].lo_y);
 
 // bit i set when a[i] > 0 and b[i] > 0: inside()'s two tests, slot by slot
 std::uint32_t positive_pairs(const std::array<double, kMaxLights>& a, const std::array<double, kMaxLights>& b) {
@@ -269,12 +270,17 @@ SightTable::SightTable(const Arena& arena, std::span<const Light> lights) : ligh
 }
 
 std::size_t SightTable::cell_index(double x, double y) const {
-    const double column = std::floor(x / kCell);
-    const double row = std::floor(y / kCell);
+    // column floor(x / kCell), row floor(y / kCell): a floor is below n
+    // exactly when its argument is, and on the grid the quotients are not
+    // negative, so truncation gives their floor
+    const double column = x / kCell;
+    const double row = y / kCell;
     if (!(column >= 0.0 && column < kColumns && row >= 0.0 && row < kRows)) {
         return static_cast<std::size_t>(kColumns) * kRows;
     }
-    return static_cast<std::size_t>(row) * kColumns + static_cast<std::size_t>(column);
+    const auto whole_row = static_cast<std::size_t>(static_cast<int>(row));
+    const auto whole_column = static_cast<std::size_t>(static_cast<int>(column));
+    return whole_row * kColumns + whole_column;
 }
 
 std::uint32_t SightTable::candidates(std::size_t index, double x, double y) const {
@@ -340,7 +346,8 @@ void sense(const Arena& arena, const SightTable& sight, const Pose& pose, const 
             const __m128d p = _mm_mul_pd(hi_y, u);
             const __m128d q = _mm_mul_pd(hi_x, v);
             const __m128d in_plus = _mm_and_pd(_mm_cmpgt_pd(b, a), _mm_cmpgt_pd(p, q));
-            const __m128d in_minus = _mm_and_pd(_mm_cmpgt_pd(q, _mm_xor_pd(p, sign)), _mm_cmpgt_pd(_mm_xor_pd(a, sign), b));
+            const __m128d in_minus =
+                _mm_and_pd(_mm_cmpgt_pd(q, _mm_xor_pd(p, sign)), _mm_cmpgt_pd(_mm_xor_pd(a, sign), b));
             plus |= static_cast<std::uint32_t>(_mm_movemask_pd(in_plus)) << i;
             minus |= static_cast<std::uint32_t>(_mm_movemask_pd(in_minus)) << i;
         }

@@ -46,7 +46,8 @@ TEST_CASE("three rays at once read exactly what three single rays read", "[sim][
             double together[3];
             arena.ray_distances(x, y, directions, kLaserRange, door_open, together);
             for (std::size_t r = 0; r < 3; ++r) {
-                const double alone = arena.ray_distance(x, y, directions[r][0], directions[r][1], kLaserRange, door_open);
+                const double alone =
+                    arena.ray_distance(x, y, directions[r][0], directions[r][1], kLaserRange, door_open);
                 REQUIRE(std::bit_cast<std::uint64_t>(together[r]) == std::bit_cast<std::uint64_t>(alone));
             }
         }
