@@ -3,11 +3,15 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
-#if defined(__SSE__)
+#if defined(__x86_64__) || defined(__i386__)
+#define STEPSTONE_SIM_HAVE_AVX2_KERNEL 1
+#include <immintrin.h>
+#elif defined(__SSE__)
 #include <xmmintrin.h>
 #endif
 
 #include "core/assert.hpp"
+#include "sim/cos_sin.hpp"
 #include "sim/units.hpp"
 
 namespace stepstone::sim {
@@ -66,23 +70,18 @@ double clamp(double v, double lo, double hi) { return v < lo ? lo : (v > hi ? hi
 // a direction component of exactly 0 would make 0 * inf = NaN in the slab test
 double safe_inverse(double d) { return 1.0 / (d == 0.0 ? 1e-300 : d); }
 
-// the bearing range [lo, hi] (radians, relative to `reference`) under which
-// the centre sees the part of the box inside the disc; extremes of a convex
-// region are at its vertices: box corners in the disc and edge/circle crossings
-void overlap_bearings(const WallBox& box, double cx, double cy, double reference, double& lo, double& hi) {
+// the vertices of the region where the disc centred at (cx, cy) overlaps the
+// box: box corners inside the disc and edge/circle crossings; `vertex(dx, dy)`
+// gets each one's offset from the centre. The extremes of the region's
+// bearings (it is convex) are at these vertices.
+template <class Vertex>
+void overlap_vertices(const WallBox& box, double cx, double cy, Vertex&& vertex) {
     const double r2 = kRobotRadius * kRobotRadius;
-    lo = 0.0;
-    hi = 0.0;
-    auto consider = [&](double px, double py) {
-        const double rel = normalize_angle(std::atan2(py - cy, px - cx) - reference);
-        lo = std::min(lo, rel);
-        hi = std::max(hi, rel);
-    };
     const double xs[2] = {box.x0, box.x1};
     const double ys[2] = {box.y0, box.y1};
     for (double x : xs) {
         for (double y : ys) {
-            if ((x - cx) * (x - cx) + (y - cy) * (y - cy) < r2) consider(x, y);
+            if ((x - cx) * (x - cx) + (y - cy) * (y - cy) < r2) vertex(x - cx, y - cy);
         }
     }
     for (double x : xs) {  // vertical edges
@@ -90,7 +89,7 @@ void overlap_bearings(const WallBox& box, double cx, double cy, double reference
         if (h2 <= 0.0) continue;
         const double h = std::sqrt(h2);
         for (double y : {cy - h, cy + h}) {
-            if (y >= box.y0 && y <= box.y1) consider(x, y);
+            if (y >= box.y0 && y <= box.y1) vertex(x - cx, y - cy);
         }
     }
     for (double y : ys) {  // horizontal edges
@@ -98,9 +97,21 @@ void overlap_bearings(const WallBox& box, double cx, double cy, double reference
         if (h2 <= 0.0) continue;
         const double h = std::sqrt(h2);
         for (double x : {cx - h, cx + h}) {
-            if (x >= box.x0 && x <= box.x1) consider(x, y);
+            if (x >= box.x0 && x <= box.x1) vertex(x - cx, y - cy);
         }
     }
+}
+
+// the bearing range [lo, hi] (radians, relative to `reference`) under which
+// the centre sees the part of the box inside the disc
+void overlap_bearings(const WallBox& box, double cx, double cy, double reference, double& lo, double& hi) {
+    lo = 0.0;
+    hi = 0.0;
+    overlap_vertices(box, cx, cy, [&](double dx, double dy) {
+        const double rel = normalize_angle(std::atan2(dy, dx) - reference);
+        lo = std::min(lo, rel);
+        hi = std::max(hi, rel);
+    });
 }
 
 // true when the bearing interval [lo, hi] (radians, any winding) meets the open interval (a, b)
@@ -111,7 +122,84 @@ bool meets(double lo, double hi, double a, double b) {
     return false;
 }
 
+bool cpu_has_avx2() {
+#ifdef STEPSTONE_SIM_HAVE_AVX2_KERNEL
+    __builtin_cpu_init();
+    return __builtin_cpu_supports("avx2");
+#else
+    return false;
+#endif
+}
+
+bool g_avx2 = cpu_has_avx2();
+
+#ifdef STEPSTONE_SIM_HAVE_AVX2_KERNEL
+// ray_distances' SSE kernel in AVX2: slots 0-7 in one vector, 8-11 in a
+// half one, every lane's operations the same. One self-contained function
+// (no helper takes or returns a vector), so no 32-byte vector crosses into
+// baseline code.
+[[gnu::target("avx2")]] void rays_avx2(const float* x0, const float* y0, const float* x1, const float* y1, float ox,
+                                       float oy, const float* inverses, float none, double range, double* out) {
+    static_assert(Arena::kSlots == 12);
+    alignas(32) float ax0[12], ax1[12], ay0[12], ay1[12];
+    const __m256 vox = _mm256_set1_ps(ox);
+    const __m256 voy = _mm256_set1_ps(oy);
+    _mm256_store_ps(ax0, _mm256_sub_ps(_mm256_loadu_ps(x0), vox));
+    _mm256_store_ps(ax1, _mm256_sub_ps(_mm256_loadu_ps(x1), vox));
+    _mm256_store_ps(ay0, _mm256_sub_ps(_mm256_loadu_ps(y0), voy));
+    _mm256_store_ps(ay1, _mm256_sub_ps(_mm256_loadu_ps(y1), voy));
+    _mm_store_ps(ax0 + 8, _mm_sub_ps(_mm_loadu_ps(x0 + 8), _mm256_castps256_ps128(vox)));
+    _mm_store_ps(ax1 + 8, _mm_sub_ps(_mm_loadu_ps(x1 + 8), _mm256_castps256_ps128(vox)));
+    _mm_store_ps(ay0 + 8, _mm_sub_ps(_mm_loadu_ps(y0 + 8), _mm256_castps256_ps128(voy)));
+    _mm_store_ps(ay1 + 8, _mm_sub_ps(_mm_loadu_ps(y1 + 8), _mm256_castps256_ps128(voy)));
+    const __m256 zero = _mm256_setzero_ps();
+    const __m256 vnone = _mm256_set1_ps(none);
+    for (std::size_t r = 0; r < 3; ++r) {
+        const float rx = inverses[2 * r];
+        const float ry = inverses[2 * r + 1];
+        const float* near_x = rx > 0.0f ? ax0 : ax1;
+        const float* far_x = rx > 0.0f ? ax1 : ax0;
+        const float* near_y = ry > 0.0f ? ay0 : ay1;
+        const float* far_y = ry > 0.0f ? ay1 : ay0;
+        const __m256 vrx = _mm256_set1_ps(rx);
+        const __m256 vry = _mm256_set1_ps(ry);
+        alignas(32) float hit[12];
+        const __m256 enter = _mm256_max_ps(_mm256_mul_ps(_mm256_load_ps(near_y), vry),
+                                           _mm256_mul_ps(_mm256_load_ps(near_x), vrx));
+        const __m256 leave = _mm256_min_ps(_mm256_mul_ps(_mm256_load_ps(far_y), vry),
+                                           _mm256_mul_ps(_mm256_load_ps(far_x), vrx));
+        const __m256 crossed =
+            _mm256_and_ps(_mm256_cmp_ps(enter, leave, _CMP_LE_OQ), _mm256_cmp_ps(leave, zero, _CMP_GE_OQ));
+        const __m256 t = _mm256_blendv_ps(vnone, _mm256_max_ps(zero, enter), crossed);
+        _mm256_store_ps(hit, t);
+        const __m128 zero4 = _mm256_castps256_ps128(zero);
+        const __m128 enter4 = _mm_max_ps(_mm_mul_ps(_mm_load_ps(near_y + 8), _mm256_castps256_ps128(vry)),
+                                         _mm_mul_ps(_mm_load_ps(near_x + 8), _mm256_castps256_ps128(vrx)));
+        const __m128 leave4 = _mm_min_ps(_mm_mul_ps(_mm_load_ps(far_y + 8), _mm256_castps256_ps128(vry)),
+                                         _mm_mul_ps(_mm_load_ps(far_x + 8), _mm256_castps256_ps128(vrx)));
+        const __m128 crossed4 =
+            _mm_and_ps(_mm_cmp_ps(enter4, leave4, _CMP_LE_OQ), _mm_cmp_ps(leave4, zero4, _CMP_GE_OQ));
+        const __m128 t4 =
+            _mm_blendv_ps(_mm256_castps256_ps128(vnone), _mm_max_ps(zero4, enter4), crossed4);
+        _mm_store_ps(hit + 8, t4);
+        __m128 best = _mm_min_ps(_mm_min_ps(_mm256_castps256_ps128(t), _mm256_extractf128_ps(t, 1)), t4);
+        best = _mm_min_ps(best, _mm_movehl_ps(best, best));
+        best = _mm_min_ss(best, _mm_shuffle_ps(best, best, 1));
+        float nearest = _mm_cvtss_f32(best);
+        if (nearest == 0.0f) {
+            nearest = none;
+            for (const float h : hit) nearest = std::min(nearest, h);
+        }
+        out[r] = static_cast<double>(nearest) <= range ? static_cast<double>(nearest) : -1.0;
+    }
+}
+#endif
+
 }  // namespace
+
+bool avx2_kernels() { return g_avx2; }
+
+void set_avx2_kernels(bool on) { g_avx2 = on && cpu_has_avx2(); }
 
 Arena::Arena() {
     wall_count_ = static_cast<int>(kWalls.size());
@@ -164,15 +252,86 @@ void Arena::ray_distances(double x, double y, const double (&directions)[3][2], 
     const Slots& s = slots(door_open);
     const auto ox = static_cast<float>(x);
     const auto oy = static_cast<float>(y);
+    // the float components with ray_distance's guard against a zero component
+    float components[6];
+    for (std::size_t r = 0; r < 3; ++r) {
+        for (std::size_t a = 0; a < 2; ++a) {
+            const double d = directions[r][a];
+            components[2 * r + a] = std::fabs(d) < 1e-30 ? 1e-30f : static_cast<float>(d);
+        }
+    }
+    constexpr float kNone = 1e30f;
+#if defined(__SSE__)
+    // ray_distance's slab test, every float operation the same, with three
+    // shortcuts that leave each value's bits alone: one division instruction
+    // takes four inverses; the offsets to each slot are shared by the rays;
+    // and as a box's x0 < x1, the slab entry min(tx0, tx1) is tx0 when the
+    // inverse is positive and tx1 when it is negative (the inverse is never
+    // 0 and the two products are never both zero), so the entry and exit
+    // need no min or max. The intrinsics' operand order follows std::min and
+    // std::max: min(a, b) is _mm_min_ps(b, a), max(a, b) is _mm_max_ps(b, a).
+    // (the vectors are assembled in registers: a vector load of scalars
+    // just stored would stall on store forwarding)
+    alignas(16) float inverses[8];
+    const __m128 one = _mm_set1_ps(1.0f);
+    _mm_store_ps(inverses,
+                 _mm_div_ps(one, _mm_setr_ps(components[0], components[1], components[2], components[3])));
+    _mm_store_ps(inverses + 4, _mm_div_ps(one, _mm_setr_ps(components[4], components[5], 1.0f, 1.0f)));
+#ifdef STEPSTONE_SIM_HAVE_AVX2_KERNEL
+    if (g_avx2) {
+        return rays_avx2(s.x0.data(), s.y0.data(), s.x1.data(), s.y1.data(), ox, oy, inverses, kNone, range, out);
+    }
+#endif
+
+    constexpr std::size_t kVectors = kSlots / 4;
+    const __m128 vox = _mm_set1_ps(ox);
+    const __m128 voy = _mm_set1_ps(oy);
+    __m128 ax0[kVectors], ax1[kVectors], ay0[kVectors], ay1[kVectors];
+    for (std::size_t v = 0; v < kVectors; ++v) {
+        ax0[v] = _mm_sub_ps(_mm_load_ps(&s.x0[4 * v]), vox);
+        ax1[v] = _mm_sub_ps(_mm_load_ps(&s.x1[4 * v]), vox);
+        ay0[v] = _mm_sub_ps(_mm_load_ps(&s.y0[4 * v]), voy);
+        ay1[v] = _mm_sub_ps(_mm_load_ps(&s.y1[4 * v]), voy);
+    }
+    const __m128 zero = _mm_setzero_ps();
+    const __m128 none = _mm_set1_ps(kNone);
+    for (std::size_t r = 0; r < 3; ++r) {
+        const float rx = inverses[2 * r];
+        const float ry = inverses[2 * r + 1];
+        const __m128* near_x = rx > 0.0f ? ax0 : ax1;
+        const __m128* far_x = rx > 0.0f ? ax1 : ax0;
+        const __m128* near_y = ry > 0.0f ? ay0 : ay1;
+        const __m128* far_y = ry > 0.0f ? ay1 : ay0;
+        const __m128 vrx = _mm_set1_ps(rx);
+        const __m128 vry = _mm_set1_ps(ry);
+        alignas(16) float hit[kSlots];
+        __m128 best = none;
+        for (std::size_t v = 0; v < kVectors; ++v) {
+            const __m128 enter = _mm_max_ps(_mm_mul_ps(near_y[v], vry), _mm_mul_ps(near_x[v], vrx));
+            const __m128 leave = _mm_min_ps(_mm_mul_ps(far_y[v], vry), _mm_mul_ps(far_x[v], vrx));
+            const __m128 crossed = _mm_and_ps(_mm_cmple_ps(enter, leave), _mm_cmpge_ps(leave, zero));
+            const __m128 t = _mm_or_ps(_mm_and_ps(crossed, _mm_max_ps(zero, enter)), _mm_andnot_ps(crossed, none));
+            _mm_store_ps(hit + 4 * v, t);
+            best = _mm_min_ps(best, t);
+        }
+        best = _mm_min_ps(best, _mm_movehl_ps(best, best));
+        best = _mm_min_ss(best, _mm_shuffle_ps(best, best, 1));
+        float nearest = _mm_cvtss_f32(best);
+        // the lanes' minimum in any order is the sequential one except for
+        // the sign of a zero, which is the first zero's in slot order
+        if (nearest == 0.0f) {
+            nearest = kNone;
+            for (const float t : hit) nearest = std::min(nearest, t);
+        }
+        out[r] = static_cast<double>(nearest) <= range ? static_cast<double>(nearest) : -1.0;
+    }
+#else
     float ix[3];
     float iy[3];
     for (std::size_t r = 0; r < 3; ++r) {
-        const double dx = directions[r][0];
-        const double dy = directions[r][1];
-        ix[r] = 1.0f / (std::fabs(dx) < 1e-30 ? 1e-30f : static_cast<float>(dx));
-        iy[r] = 1.0f / (std::fabs(dy) < 1e-30 ? 1e-30f : static_cast<float>(dy));
+        ix[r] = 1.0f / components[2 * r];
+        iy[r] = 1.0f / components[2 * r + 1];
     }
-    constexpr float kNone = 1e30f;
 
     // ray_distance's slab test with the offsets to each slot shared by the
     // three rays; every float operation is the one ray_distance performs
@@ -202,6 +361,7 @@ void Arena::ray_distances(double x, double y, const double (&directions)[3][2], 
         for (float t : hit[r]) best = std::min(best, t);
         out[r] = static_cast<double>(best) <= range ? static_cast<double>(best) : -1.0;
     }
+#endif
 }
 
 namespace {
@@ -236,7 +396,7 @@ bool Arena::segment_blocked_by(std::uint32_t walls, double x0, double y0, double
     return false;
 }
 
-Arena::Near Arena::near_slots(double x, double y, bool door_open) const {
+inline Arena::Near Arena::near_slots(double x, double y, bool door_open) const {
     const Slots& s = slots(door_open);
     const auto cx = static_cast<float>(x);
     const auto cy = static_cast<float>(y);
@@ -259,19 +419,83 @@ bool Arena::disc_overlaps(double x, double y, bool door_open) const {
     return near_slots(x, y, door_open).overlap != 0;
 }
 
-Contact Arena::contact(const Pose& pose, bool door_open) const {
-    Contact result;
-    const Near near = near_slots(pose.x, pose.y, door_open);
-    if (near.overlap == 0) return result;
-    result.hit = true;
+namespace {
+
+// bumper bits: left (input 9), right (input 10), and the answer is sure
+constexpr unsigned kLeft = 1;
+constexpr unsigned kRight = 2;
+constexpr unsigned kSure = 4;
+
+// the bumpers of one wall the disc overlaps without containing the centre
+// ((px, py) is the wall's point closest to it): the bearing range of the
+// overlap region from atan2, relative to the closest point's bearing (which
+// lies inside it), then whether it meets each quarter
+unsigned bumpers_by_angles(const WallBox& box, const Pose& pose, double px, double py) {
+    const double closest = std::atan2(py - pose.y, px - pose.x);
+    double lo = 0.0;
+    double hi = 0.0;
+    overlap_bearings(box, pose.x, pose.y, closest, lo, hi);
+    const double base = normalize_angle(closest - pose.heading);
+    return (meets(base + lo, base + hi, 0.0, kPi / 2) ? kLeft : 0u) |
+           (meets(base + lo, base + hi, -kPi / 2, 0.0) ? kRight : 0u);
+}
+
+// bumpers_by_angles' answer without atan2, with kSure set when it is sure
+// of it. In the robot frame (u forward, v towards positive bearings, from the
+// heading's cosine c and sine s), each vertex of the overlap region and the
+// closest point fall in a quarter by the signs of u and v. The region's
+// bearings form an arc shorter than pi (all lie within pi/2 of the closest
+// point's), whose ends are vertices; it meets the open quarter (0, pi/2) when
+// a vertex lies in it, or when the arc runs from a vertex in (-pi/2, 0)
+// counter-clockwise to one in (pi/2, pi) (the cross product of their offsets
+// is positive); (-pi/2, 0) likewise. Every sign is taken only when it is
+// clear by a relative margin of 1e-9, far above the rounding of both this
+// arithmetic and atan2's, so the answer is the one atan2's bearings give;
+// a vertex within the margin of a quarter's edge leaves it to atan2.
+unsigned bumpers_by_quarters(const WallBox& box, const Pose& pose, double c, double s, double px, double py) {
+    constexpr double kMargin = 1e-9;
+    struct Offset {
+        double dx, dy;
+    };
+    Offset in[4] = {};  // an offset seen in each quarter: (0, pi/2), (pi/2, pi), (-pi, -pi/2), (-pi/2, 0)
+    unsigned seen = 0;
+    bool sure = true;
+    auto classify = [&](double dx, double dy) {
+        const double u = dx * c + dy * s;
+        const double v = dy * c - dx * s;
+        const double margin = kMargin * (std::fabs(u) + std::fabs(v));
+        sure = sure && std::fabs(u) > margin && std::fabs(v) > margin;
+        const unsigned quarter = u > 0.0 ? (v > 0.0 ? 0u : 3u) : (v > 0.0 ? 1u : 2u);
+        seen |= 1u << quarter;
+        in[quarter] = {dx, dy};
+    };
+    classify(px - pose.x, py - pose.y);
+    overlap_vertices(box, pose.x, pose.y, classify);
+    // true when the arc from a's bearing counter-clockwise to b's is shorter than pi
+    auto counter_clockwise = [&](const Offset& a, const Offset& b) {
+        const double cross = a.dx * b.dy - a.dy * b.dx;
+        const double margin = kMargin * (std::fabs(a.dx) + std::fabs(a.dy)) * (std::fabs(b.dx) + std::fabs(b.dy));
+        sure = sure && std::fabs(cross) > margin;
+        return cross > 0.0;
+    };
+    const bool left = (seen & 1u) != 0 || ((seen & 0b1010u) == 0b1010u && counter_clockwise(in[3], in[1]));
+    const bool right = (seen & 8u) != 0 || ((seen & 0b0101u) == 0b0101u && counter_clockwise(in[2], in[0]));
+    return (left ? kLeft : 0u) | (right ? kRight : 0u) | (sure ? kSure : 0u);
+}
+
+}  // namespace
+
+template <bool kByAngles>
+Contact Arena::bumpers(const Pose& pose, bool door_open, std::uint32_t near) const {
+    unsigned sides = 0;
     const double r2 = kRobotRadius * kRobotRadius;
     // the walls the exact test below can find within the radius: those the
     // single-precision distances put within the margin, every wall far from
     // the map where single precision is too coarse for the margin
     const bool on_map = std::fabs(pose.x) < kNearRange && std::fabs(pose.y) < kNearRange;
-    std::uint32_t walls = on_map ? near.near : (1u << wall_count_) - 1u;
+    std::uint32_t walls = on_map ? near : (1u << wall_count_) - 1u;
     if (door_open) walls &= ~(1u << door_index_);
-    for (; walls != 0 && !(result.left && result.right); walls &= walls - 1) {
+    for (; walls != 0 && sides != (kLeft | kRight); walls &= walls - 1) {
         const WallBox& box = walls_[static_cast<std::size_t>(std::countr_zero(walls))];
         const double px = clamp(pose.x, box.x0, box.x1);
         const double py = clamp(pose.y, box.y0, box.y1);
@@ -280,20 +504,40 @@ Contact Arena::contact(const Pose& pose, bool door_open) const {
 
         // a centre inside a wall sees it all around
         if (d2 == 0.0) {
-            result.left = result.right = true;
+            sides = kLeft | kRight;
             continue;
         }
 
-        // the closest point's bearing lies inside the overlap's bearing range
-        const double closest = std::atan2(py - pose.y, px - pose.x);
-        double lo = 0.0;
-        double hi = 0.0;
-        overlap_bearings(box, pose.x, pose.y, closest, lo, hi);
-        const double base = normalize_angle(closest - pose.heading);
-        result.left = result.left || meets(base + lo, base + hi, 0.0, kPi / 2);
-        result.right = result.right || meets(base + lo, base + hi, -kPi / 2, 0.0);
+        // (a centre within 1e-10 of the wall is left to atan2: the offsets
+        // stay far from underflow)
+        unsigned wall_sides = 0;
+        if constexpr (!kByAngles) {
+            if (d2 > 1e-20) {
+                const CosSin heading = cos_sin(pose.heading);
+                wall_sides = bumpers_by_quarters(box, pose, heading.c, heading.s, px, py);
+            }
+        }
+        if ((wall_sides & kSure) == 0) wall_sides = bumpers_by_angles(box, pose, px, py);
+        sides |= wall_sides & (kLeft | kRight);
     }
+    Contact result;
+    result.hit = true;
+    result.left = (sides & kLeft) != 0;
+    result.right = (sides & kRight) != 0;
     return result;
+}
+
+// the common case, no overlap, returns before any of the bumpers' work
+Contact Arena::contact(const Pose& pose, bool door_open) const {
+    const Near near = near_slots(pose.x, pose.y, door_open);
+    if (near.overlap == 0) return Contact{};
+    return bumpers<false>(pose, door_open, near.near);
+}
+
+Contact Arena::contact_by_angles(const Pose& pose, bool door_open) const {
+    const Near near = near_slots(pose.x, pose.y, door_open);
+    if (near.overlap == 0) return Contact{};
+    return bumpers<true>(pose, door_open, near.near);
 }
 
 }  // namespace stepstone::sim

@@ -9,6 +9,14 @@
 
 namespace stepstone::sim {
 
+/// Whether the hot path uses its AVX2 kernels (lasers and light windows):
+/// by default, when the CPU has AVX2. They compute the same bits as the SSE2
+/// ones; tests switch them off to check those too.
+bool avx2_kernels();
+/// Turns the AVX2 kernels off, or back on where the CPU has AVX2. Not
+/// synchronised: call it only while no simulation runs.
+void set_avx2_kernels(bool on);
+
 /// An axis-aligned wall box [x0, x1) x [y0, y1), in units.
 struct WallBox {
     double x0 = 0.0;
@@ -63,6 +71,10 @@ public:
     /// Overlap test plus the bumpers: the bearing range, relative to the pose's
     /// heading, of each overlap region between the disc and a wall.
     Contact contact(const Pose& pose, bool door_open) const;
+    /// contact() with every bearing from atan2, as first written; contact()
+    /// decides most bumpers from signs of products instead, with the same
+    /// answer (tests compare the two).
+    Contact contact_by_angles(const Pose& pose, bool door_open) const;
 
 private:
     // single precision: four slots per SSE register; errors stay near 1e-4 units
@@ -76,6 +88,9 @@ private:
         std::uint32_t near;
     };
     Near near_slots(double x, double y, bool door_open) const;
+    // contact() once the disc overlaps a wall; `near` as near_slots() gives it
+    template <bool kByAngles>
+    [[gnu::noinline]] Contact bumpers(const Pose& pose, bool door_open, std::uint32_t near) const;
 
     std::array<WallBox, kSlots> walls_{};
     int wall_count_ = 0;

@@ -1,29 +1,19 @@
 #include "sim/robot.hpp"
 
-#include <bit>
 #include <cmath>
-#include <cstdint>
 
 #include "sim/cos_sin.hpp"
 #include "sim/units.hpp"
 
 namespace stepstone::sim {
 
-CosSin cos_sin(double angle) {
-    struct Memo {
-        bool valid = false;
-        std::uint64_t bits = 0;
-        CosSin value;
-    };
-    thread_local Memo memo;
-    const auto bits = std::bit_cast<std::uint64_t>(angle);
-    if (!memo.valid || memo.bits != bits) {
-        memo.value = {std::cos(angle), std::sin(angle)};
-        memo.bits = bits;
-        memo.valid = true;
-    }
-    return memo.value;
-}
+namespace {
+
+// the arc angle of the last curved move: a controller holding its outputs
+// (or saturating them) turns by the same angle step after step
+thread_local CosSinMemo turn_memo;
+
+}  // namespace
 
 double normalize_angle(double angle) {
     // headings change by at most 0.2 rad per step, so one wrap is the common case
@@ -47,8 +37,9 @@ Pose move_pose(const Pose& pose, double left, double right) {
     // an arc about the instantaneous centre, computed in the robot frame
     // (forward = local +y) and rotated by heading - pi/2 into the world
     const double radius = left / alpha + kWheelBase / 2.0;
-    const double local_x = (std::cos(alpha) - 1.0) * radius;
-    const double local_y = std::sin(alpha) * radius;
+    const CosSin turn = turn_memo.get(alpha);
+    const double local_x = (turn.c - 1.0) * radius;
+    const double local_y = turn.s * radius;
     const double c = std::cos(pose.heading - kPi / 2.0);
     const double s = std::sin(pose.heading - kPi / 2.0);
     next.x += local_x * c - local_y * s;

@@ -3,7 +3,10 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
-#if defined(__SSE2__)
+#if defined(__x86_64__) || defined(__i386__)
+#define STEPSTONE_SIM_HAVE_AVX2_KERNEL 1
+#include <immintrin.h>
+#elif defined(__SSE2__)
 #include <emmintrin.h>
 #endif
 
@@ -32,6 +35,20 @@ Window window_of(double angle) {
 
 const Window kWindows[2] = {window_of(kLightSensorAngles[0]), window_of(kLightSensorAngles[1])};
 
+// The -pi/4 window is the +pi/4 one mirrored: its edges are at exactly
+// minus the other's (angle -a +- w/2 rounds to -(a -+ w/2)), and cos and sin
+// are even and odd bit for bit, so its edge vectors are the other's with the
+// y components negated. Then the four cross products share two pairs of
+// products: with A = lo_y u, B = lo_x v, P = hi_y u, Q = hi_x v (the +pi/4
+// window's edges), the +pi/4 tests are B - A > 0 and P - Q > 0, the -pi/4
+// ones Q - (-P) > 0 and (-A) - B > 0, and a difference of two finite
+// doubles is positive exactly when the first is larger.
+bool same_bits(double a, double b) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b); }
+
+const bool kMirrored =
+    same_bits(kWindows[1].lo_x, kWindows[0].hi_x) && same_bits(kWindows[1].lo_y, -kWindows[0].hi_y) &&
+    same_bits(kWindows[1].hi_x, kWindows[0].lo_x) && same_bits(kWindows[1].hi_y, -kWindows[0].lo_y);
+
 // bit i set when a[i] > 0 and b[i] > 0: inside()'s two tests, slot by slot
 std::uint32_t positive_pairs(const std::array<double, kMaxLights>& a, const std::array<double, kMaxLights>& b) {
     std::uint32_t bits = 0;
@@ -48,6 +65,45 @@ std::uint32_t positive_pairs(const std::array<double, kMaxLights>& a, const std:
 #endif
     return bits;
 }
+
+#ifdef STEPSTONE_SIM_HAVE_AVX2_KERNEL
+// the mirrored window tests of sense() in AVX2, four slots per vector, every
+// lane's operations the same as in the SSE2 loop; `edges` is the +pi/4
+// window's lo_x, lo_y, hi_x, hi_y. Self-contained: no vector crosses into
+// baseline code.
+[[gnu::target("avx2")]] void window_masks_avx2(const double* xs, const double* ys, std::size_t count, double x,
+                                               double y, double c, double s, const double* edges,
+                                               std::uint32_t& plus, std::uint32_t& minus) {
+    const __m256d vc = _mm256_set1_pd(c);
+    const __m256d vs = _mm256_set1_pd(s);
+    const __m256d px = _mm256_set1_pd(x);
+    const __m256d py = _mm256_set1_pd(y);
+    const __m256d lo_x = _mm256_set1_pd(edges[0]);
+    const __m256d lo_y = _mm256_set1_pd(edges[1]);
+    const __m256d hi_x = _mm256_set1_pd(edges[2]);
+    const __m256d hi_y = _mm256_set1_pd(edges[3]);
+    const __m256d sign = _mm256_set1_pd(-0.0);
+    std::uint32_t in_plus = 0;
+    std::uint32_t in_minus = 0;
+    for (std::size_t i = 0; i < count; i += 4) {
+        const __m256d dx = _mm256_sub_pd(_mm256_loadu_pd(xs + i), px);
+        const __m256d dy = _mm256_sub_pd(_mm256_loadu_pd(ys + i), py);
+        const __m256d u = _mm256_add_pd(_mm256_mul_pd(dx, vc), _mm256_mul_pd(dy, vs));
+        const __m256d v = _mm256_sub_pd(_mm256_mul_pd(dy, vc), _mm256_mul_pd(dx, vs));
+        const __m256d a = _mm256_mul_pd(lo_y, u);
+        const __m256d b = _mm256_mul_pd(lo_x, v);
+        const __m256d p = _mm256_mul_pd(hi_y, u);
+        const __m256d q = _mm256_mul_pd(hi_x, v);
+        const __m256d both_plus = _mm256_and_pd(_mm256_cmp_pd(b, a, _CMP_GT_OQ), _mm256_cmp_pd(p, q, _CMP_GT_OQ));
+        const __m256d both_minus = _mm256_and_pd(_mm256_cmp_pd(q, _mm256_xor_pd(p, sign), _CMP_GT_OQ),
+                                                 _mm256_cmp_pd(_mm256_xor_pd(a, sign), b, _CMP_GT_OQ));
+        in_plus |= static_cast<std::uint32_t>(_mm256_movemask_pd(both_plus)) << i;
+        in_minus |= static_cast<std::uint32_t>(_mm256_movemask_pd(both_minus)) << i;
+    }
+    plus = in_plus;
+    minus = in_minus;
+}
+#endif
 
 bool inside(const Window& w, double u, double v) {
     // both sides evaluated: no branch on the first outcome
@@ -214,12 +270,17 @@ SightTable::SightTable(const Arena& arena, std::span<const Light> lights) : ligh
 }
 
 std::size_t SightTable::cell_index(double x, double y) const {
-    const double column = std::floor(x / kCell);
-    const double row = std::floor(y / kCell);
+    // column floor(x / kCell), row floor(y / kCell): a floor is below n
+    // exactly when its argument is, and on the grid the quotients are not
+    // negative, so truncation gives their floor
+    const double column = x / kCell;
+    const double row = y / kCell;
     if (!(column >= 0.0 && column < kColumns && row >= 0.0 && row < kRows)) {
         return static_cast<std::size_t>(kColumns) * kRows;
     }
-    return static_cast<std::size_t>(row) * kColumns + static_cast<std::size_t>(column);
+    const auto whole_row = static_cast<std::size_t>(static_cast<int>(row));
+    const auto whole_column = static_cast<std::size_t>(static_cast<int>(column));
+    return whole_row * kColumns + whole_column;
 }
 
 std::uint32_t SightTable::candidates(std::size_t index, double x, double y) const {
@@ -252,25 +313,69 @@ void sense(const Arena& arena, const SightTable& sight, const Pose& pose, const 
     if (lit == 0) return;
     const auto& xs = sight.xs();
     const auto& ys = sight.ys();
-    // the window edges' cross products for every padded slot, in a loop the
-    // compiler vectorises; their signs become the light masks below, and the
-    // lit mask drops the slots that hold no lit light
-    alignas(64) std::array<double, kMaxLights> plus_lo;
-    alignas(64) std::array<double, kMaxLights> plus_hi;
-    alignas(64) std::array<double, kMaxLights> minus_lo;
-    alignas(64) std::array<double, kMaxLights> minus_hi;
-    for (std::size_t i = 0; i < static_cast<std::size_t>(kMaxLights); ++i) {
-        const double dx = xs[i] - pose.x;
-        const double dy = ys[i] - pose.y;
-        const double u = dx * c + dy * s;
-        const double v = dy * c - dx * s;
-        plus_lo[i] = kWindows[0].lo_x * v - kWindows[0].lo_y * u;
-        plus_hi[i] = u * kWindows[0].hi_y - v * kWindows[0].hi_x;
-        minus_lo[i] = kWindows[1].lo_x * v - kWindows[1].lo_y * u;
-        minus_hi[i] = u * kWindows[1].hi_y - v * kWindows[1].hi_x;
+    std::uint32_t plus = 0;
+    std::uint32_t minus = 0;
+#ifdef STEPSTONE_SIM_HAVE_AVX2_KERNEL
+    if (kMirrored && avx2_kernels()) {
+        // padded to kMaxLights, a multiple of 4: the last vector stays inside
+        static_assert(kMaxLights % 4 == 0);
+        const double edges[4] = {kWindows[0].lo_x, kWindows[0].lo_y, kWindows[0].hi_x, kWindows[0].hi_y};
+        window_masks_avx2(xs.data(), ys.data(), sight.lights().size(), pose.x, pose.y, c, s, edges, plus, minus);
+    } else
+#endif
+#if defined(__SSE2__)
+    if (kMirrored) {
+        // the window tests of two slots per vector, up to the last light
+        const __m128d vc = _mm_set1_pd(c);
+        const __m128d vs = _mm_set1_pd(s);
+        const __m128d px = _mm_set1_pd(pose.x);
+        const __m128d py = _mm_set1_pd(pose.y);
+        const __m128d lo_x = _mm_set1_pd(kWindows[0].lo_x);
+        const __m128d lo_y = _mm_set1_pd(kWindows[0].lo_y);
+        const __m128d hi_x = _mm_set1_pd(kWindows[0].hi_x);
+        const __m128d hi_y = _mm_set1_pd(kWindows[0].hi_y);
+        const __m128d sign = _mm_set1_pd(-0.0);
+        const std::size_t count = sight.lights().size();
+        for (std::size_t i = 0; i < count; i += 2) {
+            const __m128d dx = _mm_sub_pd(_mm_loadu_pd(&xs[i]), px);
+            const __m128d dy = _mm_sub_pd(_mm_loadu_pd(&ys[i]), py);
+            const __m128d u = _mm_add_pd(_mm_mul_pd(dx, vc), _mm_mul_pd(dy, vs));
+            const __m128d v = _mm_sub_pd(_mm_mul_pd(dy, vc), _mm_mul_pd(dx, vs));
+            const __m128d a = _mm_mul_pd(lo_y, u);
+            const __m128d b = _mm_mul_pd(lo_x, v);
+            const __m128d p = _mm_mul_pd(hi_y, u);
+            const __m128d q = _mm_mul_pd(hi_x, v);
+            const __m128d in_plus = _mm_and_pd(_mm_cmpgt_pd(b, a), _mm_cmpgt_pd(p, q));
+            const __m128d in_minus =
+                _mm_and_pd(_mm_cmpgt_pd(q, _mm_xor_pd(p, sign)), _mm_cmpgt_pd(_mm_xor_pd(a, sign), b));
+            plus |= static_cast<std::uint32_t>(_mm_movemask_pd(in_plus)) << i;
+            minus |= static_cast<std::uint32_t>(_mm_movemask_pd(in_minus)) << i;
+        }
+    } else
+#endif
+    {
+        // the window edges' cross products for every padded slot, in a loop
+        // the compiler vectorises; their signs become the light masks below
+        alignas(64) std::array<double, kMaxLights> plus_lo;
+        alignas(64) std::array<double, kMaxLights> plus_hi;
+        alignas(64) std::array<double, kMaxLights> minus_lo;
+        alignas(64) std::array<double, kMaxLights> minus_hi;
+        for (std::size_t i = 0; i < static_cast<std::size_t>(kMaxLights); ++i) {
+            const double dx = xs[i] - pose.x;
+            const double dy = ys[i] - pose.y;
+            const double u = dx * c + dy * s;
+            const double v = dy * c - dx * s;
+            plus_lo[i] = kWindows[0].lo_x * v - kWindows[0].lo_y * u;
+            plus_hi[i] = u * kWindows[0].hi_y - v * kWindows[0].hi_x;
+            minus_lo[i] = kWindows[1].lo_x * v - kWindows[1].lo_y * u;
+            minus_hi[i] = u * kWindows[1].hi_y - v * kWindows[1].hi_x;
+        }
+        plus = positive_pairs(plus_lo, plus_hi);
+        minus = positive_pairs(minus_lo, minus_hi);
     }
-    const std::uint32_t plus = positive_pairs(plus_lo, plus_hi) & lit;
-    const std::uint32_t minus = positive_pairs(minus_lo, minus_hi) & lit;
+    // the lit mask drops the slots that hold no lit light
+    plus &= lit;
+    minus &= lit;
     if ((plus | minus) == 0) return;
 
     const SightTable::Cell cell = sight.cell(pose.x, pose.y, state.door_open);
@@ -299,15 +404,6 @@ void sense(const Arena& arena, std::span<const Light> lights, const Pose& pose, 
     sense_with(arena, lights, pose, state, out, [&](std::size_t, const Light& light) {
         return arena.segment_blocked(light.x, light.y, pose.x, pose.y, state.door_open);
     });
-}
-
-void fill_inputs(const SensorReadings& readings, bool bumper_left, bool bumper_right, bool carrying,
-                 float* inputs) {
-    for (std::size_t i = 0; i < 3; ++i) inputs[i] = laser_input(readings.laser[i]);
-    for (std::size_t i = 0; i < 6; ++i) inputs[3 + i] = readings.light[i] ? 1.0f : 0.0f;
-    inputs[9] = bumper_left ? 1.0f : 0.0f;
-    inputs[10] = bumper_right ? 1.0f : 0.0f;
-    inputs[11] = carrying ? 1.0f : 0.0f;
 }
 
 std::span<const char* const> channel_names() { return kChannelNames; }

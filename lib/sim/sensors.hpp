@@ -129,8 +129,14 @@ inline float laser_input(double distance) {
 }
 
 /// Fills the 12 controller inputs in the order of ORIGINAL.md 2.2.
-void fill_inputs(const SensorReadings& readings, bool bumper_left, bool bumper_right, bool carrying,
-                 float* inputs);
+inline void fill_inputs(const SensorReadings& readings, bool bumper_left, bool bumper_right, bool carrying,
+                        float* inputs) {
+    for (std::size_t i = 0; i < 3; ++i) inputs[i] = laser_input(readings.laser[i]);
+    for (std::size_t i = 0; i < 6; ++i) inputs[3 + i] = readings.light[i] ? 1.0f : 0.0f;
+    inputs[9] = bumper_left ? 1.0f : 0.0f;
+    inputs[10] = bumper_right ? 1.0f : 0.0f;
+    inputs[11] = carrying ? 1.0f : 0.0f;
+}
 
 /// Column names of the behaviour matrix: 12 inputs then 3 outputs.
 std::span<const char* const> channel_names();

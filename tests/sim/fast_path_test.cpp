@@ -16,27 +16,69 @@ using namespace stepstone::sim;
 // The hot path's shortcuts must never change an answer: each is checked
 // against the plain query it replaces, bit for bit.
 
+// Runs `check` with the AVX2 kernels off, then on where the CPU has AVX2.
+template <class Check>
+void with_each_kernel(Check&& check) {
+    const bool initial = avx2_kernels();
+    for (const bool avx2 : {false, true}) {
+        set_avx2_kernels(avx2);
+        check();
+    }
+    set_avx2_kernels(initial);
+}
+
 TEST_CASE("three rays at once read exactly what three single rays read", "[sim][arena][fast]") {
-    const Arena arena;
-    stepstone::Rng rng(7);
-    for (int i = 0; i < 20'000; ++i) {
-        const double x = rng.uniform(-20.0, 620.0);
-        const double y = rng.uniform(-20.0, 420.0);
-        double directions[3][2];
-        for (auto& d : directions) {
-            // every fourth ray along an axis: the zero-component guard
-            const double a = i % 4 == 0 ? static_cast<double>(rng.below(4)) * kPi / 2 : rng.uniform(-kPi, kPi);
-            d[0] = std::cos(a);
-            d[1] = std::sin(a);
-            if (i % 4 == 0) d[static_cast<std::size_t>(rng.below(2))] = 0.0;
+    with_each_kernel([] {
+        const Arena arena;
+        stepstone::Rng rng(7);
+        for (int i = 0; i < 20'000; ++i) {
+            const double x = rng.uniform(-20.0, 620.0);
+            const double y = rng.uniform(-20.0, 420.0);
+            double directions[3][2];
+            for (auto& d : directions) {
+                // every fourth ray along an axis: the zero-component guard
+                const double a = i % 4 == 0 ? static_cast<double>(rng.below(4)) * kPi / 2 : rng.uniform(-kPi, kPi);
+                d[0] = std::cos(a);
+                d[1] = std::sin(a);
+                if (i % 4 == 0) d[static_cast<std::size_t>(rng.below(2))] = 0.0;
+            }
+            const bool door_open = rng.bernoulli(0.5);
+            double together[3];
+            arena.ray_distances(x, y, directions, kLaserRange, door_open, together);
+            for (std::size_t r = 0; r < 3; ++r) {
+                const double alone =
+                    arena.ray_distance(x, y, directions[r][0], directions[r][1], kLaserRange, door_open);
+                REQUIRE(std::bit_cast<std::uint64_t>(together[r]) == std::bit_cast<std::uint64_t>(alone));
+            }
         }
-        const bool door_open = rng.bernoulli(0.5);
-        double together[3];
-        arena.ray_distances(x, y, directions, kLaserRange, door_open, together);
+    });
+}
+
+TEST_CASE("the SSE2 and AVX2 kernels of sense read the same bits", "[sim][sensors][fast]") {
+    const auto task = make_task(TaskConfig{});
+    stepstone::Rng rng(17);
+    for (int i = 0; i < 50'000; ++i) {
+        const Pose pose{rng.uniform(-30.0, 630.0), rng.uniform(-30.0, 430.0),
+                        i % 5 == 0 ? static_cast<double>(rng.below(8)) * kPi / 4 - kPi : rng.uniform(-kPi, kPi)};
+        WorldState state;
+        state.door_open = rng.bernoulli(0.5);
+        state.lit = i % 2 == 0 ? task->initial_lit() : static_cast<std::uint32_t>(rng.below(1u << 13));
+        SensorReadings readings[2];
+        const bool initial = avx2_kernels();
+        for (const bool avx2 : {false, true}) {
+            set_avx2_kernels(avx2);
+            sense(task->arena(), task->sight(), pose, state, readings[avx2 ? 1 : 0]);
+        }
+        set_avx2_kernels(initial);
         for (std::size_t r = 0; r < 3; ++r) {
-            const double alone = arena.ray_distance(x, y, directions[r][0], directions[r][1], kLaserRange, door_open);
-            REQUIRE(std::bit_cast<std::uint64_t>(together[r]) == std::bit_cast<std::uint64_t>(alone));
+            REQUIRE(std::bit_cast<std::uint64_t>(readings[0].laser[r]) ==
+                    std::bit_cast<std::uint64_t>(readings[1].laser[r]));
         }
+        REQUIRE(readings[0].light == readings[1].light);
+        // and the plain overload, which tests every wall of every sight line
+        SensorReadings plain;
+        sense(task->arena(), task->lights(), pose, state, plain);
+        REQUIRE(readings[0].light == plain.light);
     }
 }
 
@@ -103,4 +145,52 @@ TEST_CASE("contact far off the map falls back to every wall and agrees with the 
     CHECK_FALSE(far.hit);
     CHECK_FALSE(far.left);
     CHECK_FALSE(far.right);
+}
+
+TEST_CASE("bumpers from the quarters' signs equal those from atan2 bearings", "[sim][arena][fast]") {
+    const Arena arena;
+    const auto walls = arena.walls();
+    stepstone::Rng rng(13);
+    int contacts = 0;
+    int left = 0;
+    int right = 0;
+    for (int i = 0; i < 300'000; ++i) {
+        // near an edge or a corner of a random wall
+        const WallBox& wall = walls[static_cast<std::size_t>(rng.below(walls.size()))];
+        Pose pose{rng.uniform(wall.x0 - 21.0, wall.x1 + 21.0), rng.uniform(wall.y0 - 21.0, wall.y1 + 21.0), 0.0};
+        if (i % 5 == 0) pose.x = (rng.bernoulli(0.5) ? wall.x0 : wall.x1) + rng.uniform(-21.0, 21.0);
+        if (i % 5 == 1) pose.y = (rng.bernoulli(0.5) ? wall.y0 : wall.y1) + rng.uniform(-21.0, 21.0);
+        switch (i % 4) {
+        case 0:  // any heading
+            pose.heading = rng.uniform(-kPi, kPi);
+            break;
+        case 1:  // along an axis or a diagonal: vertices on a quarter's edge
+            pose.heading = normalize_angle(static_cast<double>(rng.below(8)) * kPi / 4);
+            break;
+        case 2: {  // towards a corner of the wall, or square to it, give or take a little
+            const double cx = rng.bernoulli(0.5) ? wall.x0 : wall.x1;
+            const double cy = rng.bernoulli(0.5) ? wall.y0 : wall.y1;
+            const double jitter = rng.bernoulli(0.5) ? 0.0 : rng.uniform(-1e-8, 1e-8);
+            pose.heading = normalize_angle(std::atan2(cy - pose.y, cx - pose.x) +
+                                           static_cast<double>(rng.below(4)) * kPi / 2 + jitter);
+            break;
+        }
+        default:  // a tiny angle either side of an axis
+            pose.heading = normalize_angle(static_cast<double>(rng.below(4)) * kPi / 2 + rng.uniform(-1e-9, 1e-9));
+            break;
+        }
+        if (i % 7 == 0) pose.y = wall.y0 - (20.0 - std::ldexp(1.0, -static_cast<int>(rng.below(40))));  // grazing
+        const bool door_open = rng.bernoulli(0.5);
+        const Contact fast = arena.contact(pose, door_open);
+        const Contact exact = arena.contact_by_angles(pose, door_open);
+        REQUIRE(fast.hit == exact.hit);
+        REQUIRE(fast.left == exact.left);
+        REQUIRE(fast.right == exact.right);
+        contacts += fast.hit ? 1 : 0;
+        left += fast.left ? 1 : 0;
+        right += fast.right ? 1 : 0;
+    }
+    CHECK(contacts > 100'000);
+    CHECK(left > 30'000);
+    CHECK(right > 30'000);
 }
