@@ -11,6 +11,7 @@ namespace stepstone::kb {
 namespace {
 
 constexpr std::size_t kLanes = 8;
+static_assert(BoundTree::kFanout == kLanes);
 // eight floats as one value (GCC and Clang vector extension; lowered to the
 // target's vector width)
 typedef float Lanes __attribute__((vector_size(kLanes * sizeof(float))));
@@ -19,34 +20,33 @@ std::size_t padded(std::size_t n) { return (n + kLanes - 1) / kLanes * kLanes; }
 
 // what the search loop reads of a tree
 struct View {
-    const BoundTree::Node* nodes;
-    const float* boxes;
+    const BoundTree::Wide* wides;
+    const float* child_boxes;
+    const BoundTree::Leaf* leaves;
     const float* coords;
     const std::uint32_t* ids;
     std::size_t dims;
-    std::size_t box_dims;
 };
 
-// squared distance (float) from the query to the box of node `index`: per
-// coordinate the distance to the interval [low, high] (0 inside); rounding is
-// monotone, so each term is at most the rounded difference to any point of
-// the box
-[[gnu::always_inline]] inline float box_gap(const View& t, std::uint32_t index, const float* query_f) {
-    const float* low = t.boxes + std::size_t{index} * 2 * t.box_dims;
-    const float* high = low + t.box_dims;
+// squared distances (float) from the query to the boxes of the children of
+// wide node `index`, one lane per child: per coordinate the distance to the
+// interval [low, high] (0 inside). Rounding is monotone, so each term is at
+// most the rounded difference to any point of the box
+[[gnu::always_inline]] inline void child_gaps(const View& t, std::uint32_t index, const float* query_f, float* out) {
+    const float* low = t.child_boxes + std::size_t{index} * 2 * t.dims * kLanes;
+    const float* high = low + t.dims * kLanes;
     const Lanes zero = {};
     Lanes acc = {};
-    for (std::size_t d = 0; d < t.box_dims; d += kLanes) {
-        Lanes q, a, b;
-        std::memcpy(&q, query_f + d, sizeof(q));
-        std::memcpy(&a, low + d, sizeof(a));
-        std::memcpy(&b, high + d, sizeof(b));
-        const Lanes below = a - q, above = q - b;
+    for (std::size_t d = 0; d < t.dims; ++d) {
+        Lanes a, b;
+        std::memcpy(&a, low + d * kLanes, sizeof(a));
+        std::memcpy(&b, high + d * kLanes, sizeof(b));
+        const Lanes below = a - query_f[d], above = query_f[d] - b;
         Lanes gap = below > above ? below : above;
         gap = gap > zero ? gap : zero;
         acc += gap * gap;
     }
-    return ((acc[0] + acc[1]) + (acc[2] + acc[3])) + ((acc[4] + acc[5]) + (acc[6] + acc[7]));
+    std::memcpy(out, &acc, sizeof(acc));
 }
 
 // gaps of a leaf's points [i0, i0 + 8) (padding points included)
@@ -62,56 +62,64 @@ struct View {
     std::memcpy(out, &acc, sizeof(acc));
 }
 
-// depth first, the nearer child first; a node is entered only while its box
-// gap is within the (shrinking) limit
-[[gnu::always_inline]] inline void search_loop(const View& t, const float* query_f, double limit,
-                                               BoundTree::Visit visit, void* context) {
-    struct Pending {
-        std::uint32_t node;
-        float gap;
-    };
-    // each level of the descent leaves at most one pending sibling
-    Pending stack[80];
+struct Pending {
+    std::uint32_t node;
+    float gap;
+};
+
+// depth first, nearer boxes first; a node is entered only while its box gap
+// is within the (shrinking) limit
+[[gnu::always_inline]] inline void search_loop(const View& t, std::uint32_t root, float root_gap, const float* query_f,
+                                               double limit, BoundTree::Visit visit, void* context) {
+    // each wide node on the path leaves at most kFanout - 1 pending children
+    constexpr std::size_t kStack = 64 * BoundTree::kFanout;
+    Pending stack[kStack];
     std::size_t top = 0;
-    const float root = box_gap(t, 0, query_f);
-    if (static_cast<double>(root) > limit) return;
-    stack[top++] = {0, root};
+    if (static_cast<double>(root_gap) > limit) return;
+    stack[top++] = {root, root_gap};
     while (top > 0) {
         const Pending p = stack[--top];
         if (static_cast<double>(p.gap) > limit) continue;
-        std::uint32_t index = p.node;
-        // descend to a leaf, leaving the farther children behind
-        while (t.nodes[index].axis >= 0) {
-            const BoundTree::Node& n = t.nodes[index];
-            const float a = box_gap(t, n.first, query_f), b = box_gap(t, n.second, query_f);
-            const bool first_near = a <= b;
-            const std::uint32_t near = first_near ? n.first : n.second, far = first_near ? n.second : n.first;
-            const float near_gap = first_near ? a : b, far_gap = first_near ? b : a;
-            if (static_cast<double>(far_gap) <= limit) stack[top++] = {far, far_gap};
-            if (static_cast<double>(near_gap) > limit) break;
-            index = near;
+        if (p.node & BoundTree::kLeafBit) {
+            const BoundTree::Leaf& leaf = t.leaves[p.node & ~BoundTree::kLeafBit];
+            const std::size_t count = leaf.count, width = padded(count);
+            const float* block = t.coords + leaf.block;
+            for (std::size_t i0 = 0; i0 < count; i0 += kLanes) {
+                float gaps[kLanes];
+                leaf_gaps(t, block, width, i0, query_f, gaps);
+                const std::size_t n = std::min(kLanes, count - i0);
+                for (std::size_t i = 0; i < n; ++i)
+                    if (static_cast<double>(gaps[i]) <= limit)
+                        limit = visit(context, std::size_t{t.ids[leaf.first + i0 + i]});
+            }
+            continue;
         }
-        const BoundTree::Node& leaf = t.nodes[index];
-        if (leaf.axis >= 0) continue;  // the nearer child was out of reach
-        const std::size_t count = leaf.second - leaf.first, width = padded(count);
-        const float* block = t.coords + leaf.block;
-        for (std::size_t i0 = 0; i0 < count; i0 += kLanes) {
-            float gaps[kLanes];
-            leaf_gaps(t, block, width, i0, query_f, gaps);
-            const std::size_t n = std::min(kLanes, count - i0);
-            for (std::size_t i = 0; i < n; ++i)
-                if (static_cast<double>(gaps[i]) <= limit) limit = visit(context, std::size_t{t.ids[leaf.first + i0 + i]});
+        const BoundTree::Wide& w = t.wides[p.node];
+        float gaps[kLanes];
+        child_gaps(t, p.node, query_f, gaps);
+        // the children within the limit, pushed farthest first (insertion
+        // into the stack's top keeps them ordered)
+        const std::size_t base = top;
+        for (std::size_t c = 0; c < w.count; ++c) {
+            if (static_cast<double>(gaps[c]) > limit) continue;
+            std::size_t k = top++;
+            while (k > base && stack[k - 1].gap < gaps[c]) {
+                stack[k] = stack[k - 1];
+                --k;
+            }
+            stack[k] = {w.child[c], gaps[c]};
         }
     }
 }
 
-void search_generic(const View& t, const float* query_f, double limit, BoundTree::Visit visit, void* context) {
-    search_loop(t, query_f, limit, visit, context);
+void search_generic(const View& t, std::uint32_t root, float root_gap, const float* query_f, double limit,
+                    BoundTree::Visit visit, void* context) {
+    search_loop(t, root, root_gap, query_f, limit, visit, context);
 }
 
-[[gnu::target("avx2")]] void search_avx2(const View& t, const float* query_f, double limit, BoundTree::Visit visit,
-                                         void* context) {
-    search_loop(t, query_f, limit, visit, context);
+[[gnu::target("avx2")]] void search_avx2(const View& t, std::uint32_t root, float root_gap, const float* query_f,
+                                         double limit, BoundTree::Visit visit, void* context) {
+    search_loop(t, root, root_gap, query_f, limit, visit, context);
 }
 
 bool cpu_has_avx2() {
@@ -134,33 +142,30 @@ BoundTree::BoundTree(const float* points, std::size_t stride, std::size_t dims, 
       leaf_size_(std::max<std::size_t>(leaf_size, 1)),
       avx2_(cpu_has_avx2()) {
     STEPSTONE_ASSERT(dims >= 1 && dims <= stride);
-    STEPSTONE_ASSERT(end > begin && end <= std::numeric_limits<std::uint32_t>::max());
+    STEPSTONE_ASSERT(end > begin && end - begin < kLeafBit);
     std::vector<std::uint32_t> order(end - begin);
     for (std::size_t i = 0; i < order.size(); ++i) order[i] = static_cast<std::uint32_t>(begin + i);
-    nodes_.reserve(2 * (order.size() / leaf_size_ + 1));
-    boxes_.reserve(nodes_.capacity() * 2 * box_dims_);
-    build(order, 0, order.size(), points);
-    // leaf blocks, coordinate-major; padding points are never reported
-    for (Node& n : nodes_) {
-        if (n.axis >= 0) continue;
-        const std::size_t count = n.second - n.first, width = padded(count);
-        n.block = coords_.size();
-        coords_.resize(coords_.size() + width * dims_, 0.0f);
-        for (std::size_t d = 0; d < dims_; ++d)
-            for (std::size_t i = 0; i < count; ++i)
-                coords_[n.block + d * width + i] = points[std::size_t{order[n.first + i]} * stride_ + d];
+    std::vector<Binary> binary;
+    std::vector<float> boxes;
+    binary.reserve(2 * (order.size() / leaf_size_ + 1));
+    build(order, 0, order.size(), points, binary, boxes);
+    root_box_.assign(2 * box_dims_, 0.0f);
+    for (std::size_t d = 0; d < dims_; ++d) {
+        root_box_[d] = boxes[d];
+        root_box_[box_dims_ + d] = boxes[dims_ + d];
     }
+    root_ = collapse(0, binary, boxes, order, points);
     ids_ = std::move(order);
 }
 
-std::uint32_t BoundTree::build(std::vector<std::uint32_t>& order, std::size_t lo, std::size_t hi,
-                               const float* points) {
-    const auto index = static_cast<std::uint32_t>(nodes_.size());
-    nodes_.emplace_back();
+std::uint32_t BoundTree::build(std::vector<std::uint32_t>& order, std::size_t lo, std::size_t hi, const float* points,
+                               std::vector<Binary>& binary, std::vector<float>& boxes) {
+    const auto index = static_cast<std::uint32_t>(binary.size());
+    binary.emplace_back();
     // the tight bounding box of the range; split its widest axis at the
     // median, unless the range is small enough or a single point repeated
-    const std::size_t box = boxes_.size();
-    boxes_.resize(box + 2 * box_dims_, 0.0f);
+    const std::size_t box = boxes.size();
+    boxes.resize(box + 2 * dims_, 0.0f);
     std::size_t axis = 0;
     float width = 0.0f;
     for (std::size_t d = 0; d < dims_; ++d) {
@@ -169,16 +174,16 @@ std::uint32_t BoundTree::build(std::vector<std::uint32_t>& order, std::size_t lo
             a = std::min(a, points[order[i] * stride_ + d]);
             b = std::max(b, points[order[i] * stride_ + d]);
         }
-        boxes_[box + d] = a;
-        boxes_[box + box_dims_ + d] = b;
+        boxes[box + d] = a;
+        boxes[box + dims_ + d] = b;
         if (b - a > width) {
             width = b - a;
             axis = d;
         }
     }
     if (hi - lo <= leaf_size_ || width <= 0.0f) {
-        nodes_[index].first = static_cast<std::uint32_t>(lo);
-        nodes_[index].second = static_cast<std::uint32_t>(hi);
+        binary[index].first = static_cast<std::uint32_t>(lo);
+        binary[index].second = static_cast<std::uint32_t>(hi);
         return index;
     }
     const std::size_t mid = lo + (hi - lo) / 2;
@@ -186,39 +191,108 @@ std::uint32_t BoundTree::build(std::vector<std::uint32_t>& order, std::size_t lo
     std::nth_element(order.begin() + static_cast<std::ptrdiff_t>(lo), order.begin() + static_cast<std::ptrdiff_t>(mid),
                      order.begin() + static_cast<std::ptrdiff_t>(hi),
                      [&](std::uint32_t a, std::uint32_t b) { return at(a) < at(b) || (at(a) == at(b) && a < b); });
-    const std::uint32_t left = build(order, lo, mid, points);
-    const std::uint32_t right = build(order, mid, hi, points);
-    Node& n = nodes_[index];
-    n.first = left;
-    n.second = right;
-    n.axis = static_cast<std::int32_t>(axis);
+    const std::uint32_t left = build(order, lo, mid, points, binary, boxes);
+    const std::uint32_t right = build(order, mid, hi, points, binary, boxes);
+    binary[index].first = left;
+    binary[index].second = right;
+    binary[index].leaf = false;
+    return index;
+}
+
+std::uint32_t BoundTree::collapse(std::uint32_t node, const std::vector<Binary>& binary,
+                                  const std::vector<float>& boxes, const std::vector<std::uint32_t>& order,
+                                  const float* points) {
+    if (binary[node].leaf) {
+        // coordinate-major block; padding points are never reported
+        const Binary& b = binary[node];
+        Leaf leaf;
+        leaf.first = b.first;
+        leaf.count = b.second - b.first;
+        leaf.block = coords_.size();
+        const std::size_t width = padded(leaf.count);
+        coords_.resize(coords_.size() + width * dims_, 0.0f);
+        for (std::size_t d = 0; d < dims_; ++d)
+            for (std::size_t i = 0; i < leaf.count; ++i)
+                coords_[leaf.block + d * width + i] = points[std::size_t{order[leaf.first + i]} * stride_ + d];
+        leaves_.push_back(leaf);
+        return static_cast<std::uint32_t>(leaves_.size() - 1) | kLeafBit;
+    }
+    // the frontier below `node`, a level of the binary tree at a time (for
+    // a balanced tree: the 8 nodes three levels down)
+    std::vector<std::uint32_t> frontier{binary[node].first, binary[node].second};
+    for (bool split = true; split;) {
+        split = false;
+        std::vector<std::uint32_t> next;
+        std::size_t size = frontier.size();
+        for (std::size_t i = 0; i < frontier.size(); ++i) {
+            const Binary& b = binary[frontier[i]];
+            if (!b.leaf && size + 1 <= kFanout) {
+                next.push_back(b.first);
+                next.push_back(b.second);
+                ++size;
+                split = true;
+            } else {
+                next.push_back(frontier[i]);
+            }
+        }
+        frontier = std::move(next);
+    }
+    const auto index = static_cast<std::uint32_t>(wides_.size());
+    wides_.emplace_back();
+    const std::size_t box = child_boxes_.size();
+    // unused lanes hold an empty box far away (its gap overflows to infinity)
+    child_boxes_.resize(box + 2 * dims_ * kFanout, std::numeric_limits<float>::max());
+    for (std::size_t c = 0; c < frontier.size(); ++c)
+        for (std::size_t d = 0; d < dims_; ++d) {
+            child_boxes_[box + d * kFanout + c] = boxes[std::size_t{frontier[c]} * 2 * dims_ + d];
+            child_boxes_[box + (dims_ + d) * kFanout + c] = boxes[std::size_t{frontier[c]} * 2 * dims_ + dims_ + d];
+        }
+    wides_[index].count = static_cast<std::uint32_t>(frontier.size());
+    for (std::size_t c = 0; c < frontier.size(); ++c) {
+        const std::uint32_t child = collapse(frontier[c], binary, boxes, order, points);
+        wides_[index].child[c] = child;
+    }
     return index;
 }
 
 void BoundTree::search(const float* query_f, double limit, Visit visit, void* context) const {
-    const View view{nodes_.data(), boxes_.data(), coords_.data(), ids_.data(), dims_, box_dims_};
+    const View view{wides_.data(), child_boxes_.data(), leaves_.data(), coords_.data(), ids_.data(), dims_};
+    // the box of all points, in double (a few coordinates, once per search)
+    double root_gap = 0.0;
+    for (std::size_t d = 0; d < dims_; ++d) {
+        const double below = static_cast<double>(root_box_[d]) - static_cast<double>(query_f[d]);
+        const double above = static_cast<double>(query_f[d]) - static_cast<double>(root_box_[box_dims_ + d]);
+        const double gap = std::max({below, above, 0.0});
+        root_gap += gap * gap;
+    }
+    if (root_gap > limit) return;
     if (avx2_) {
-        search_avx2(view, query_f, limit, visit, context);
+        search_avx2(view, root_, 0.0f, query_f, limit, visit, context);
     } else {
-        search_generic(view, query_f, limit, visit, context);
+        search_generic(view, root_, 0.0f, query_f, limit, visit, context);
     }
 }
 
 std::size_t BoundTree::near_leaf_point(const float* query_f) const {
-    const View view{nodes_.data(), boxes_.data(), coords_.data(), ids_.data(), dims_, box_dims_};
-    std::uint32_t index = 0;
-    while (nodes_[index].axis >= 0) {
-        const Node& n = nodes_[index];
-        index = box_gap(view, n.second, query_f) < box_gap(view, n.first, query_f) ? n.second : n.first;
+    const View view{wides_.data(), child_boxes_.data(), leaves_.data(), coords_.data(), ids_.data(), dims_};
+    std::uint32_t node = root_;
+    while (!(node & kLeafBit)) {
+        float gaps[kLanes];
+        child_gaps(view, node, query_f, gaps);
+        const Wide& w = wides_[node];
+        std::size_t best = 0;
+        for (std::size_t c = 1; c < w.count; ++c)
+            if (gaps[c] < gaps[best]) best = c;
+        node = w.child[best];
     }
-    const Node& leaf = nodes_[index];
-    const std::size_t count = leaf.second - leaf.first, width = padded(count);
+    const Leaf& leaf = leaves_[node & ~kLeafBit];
+    const std::size_t width = padded(leaf.count);
     std::size_t best = ids_[leaf.first];
     float best_gap = std::numeric_limits<float>::infinity();
-    for (std::size_t i0 = 0; i0 < count; i0 += kLanes) {
+    for (std::size_t i0 = 0; i0 < leaf.count; i0 += kLanes) {
         float gaps[kLanes];
         leaf_gaps(view, coords_.data() + leaf.block, width, i0, query_f, gaps);
-        for (std::size_t i = 0; i < std::min(kLanes, count - i0); ++i) {
+        for (std::size_t i = 0; i < std::min<std::size_t>(kLanes, leaf.count - i0); ++i) {
             if (gaps[i] < best_gap) {
                 best_gap = gaps[i];
                 best = ids_[leaf.first + i0 + i];
@@ -229,9 +303,10 @@ std::size_t BoundTree::near_leaf_point(const float* query_f) const {
 }
 
 double BoundTree::bytes_per_point() const {
-    return static_cast<double>((coords_.size() + boxes_.size()) * sizeof(float)) / static_cast<double>(size()) +
-           static_cast<double>(sizeof(std::uint32_t)) +
-           static_cast<double>(nodes_.size() * sizeof(Node)) / static_cast<double>(size());
+    const std::size_t floats = coords_.size() + child_boxes_.size() + root_box_.size();
+    return static_cast<double>(floats * sizeof(float) + wides_.size() * sizeof(Wide) + leaves_.size() * sizeof(Leaf)) /
+               static_cast<double>(size()) +
+           static_cast<double>(sizeof(std::uint32_t));
 }
 
 }  // namespace stepstone::kb

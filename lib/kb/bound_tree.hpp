@@ -58,16 +58,32 @@ public:
     /// Bytes held per point (coordinates, boxes, ids and nodes).
     double bytes_per_point() const;
 
-    /// The parts of the tree the search loop reads.
-    struct Node {
-        std::uint32_t first = 0;   // leaf: point range in leaf order; inner: children
-        std::uint32_t second = 0;
-        std::uint64_t block = 0;   // leaf: offset of its coordinate block in coords_
-        std::int32_t axis = -1;    // -1 for a leaf
+    /// Children of an inner node (up to kFanout): wide node indices, or leaf
+    /// indices with kLeafBit set.
+    static constexpr std::size_t kFanout = 8;
+    static constexpr std::uint32_t kLeafBit = 0x80000000u;
+    struct Wide {
+        std::uint32_t child[kFanout] = {};
+        std::uint32_t count = 0;
+    };
+    struct Leaf {
+        std::uint32_t first = 0;   // point range in leaf order
+        std::uint32_t count = 0;
+        std::uint64_t block = 0;   // offset of its coordinate block in coords_
     };
 
 private:
-    std::uint32_t build(std::vector<std::uint32_t>& order, std::size_t lo, std::size_t hi, const float* points);
+    // binary KD-tree built first (median split of the widest axis), then
+    // collapsed into nodes of up to kFanout children
+    struct Binary {
+        std::uint32_t first = 0;   // leaf: point range in leaf order; inner: children
+        std::uint32_t second = 0;
+        bool leaf = true;
+    };
+    std::uint32_t build(std::vector<std::uint32_t>& order, std::size_t lo, std::size_t hi, const float* points,
+                        std::vector<Binary>& binary, std::vector<float>& boxes);
+    std::uint32_t collapse(std::uint32_t node, const std::vector<Binary>& binary, const std::vector<float>& boxes,
+                           const std::vector<std::uint32_t>& order, const float* points);
 
     std::size_t stride_;
     std::size_t dims_;
@@ -76,10 +92,15 @@ private:
     std::size_t end_;
     std::size_t leaf_size_;
     bool avx2_ = false;
+    std::uint32_t root_ = 0;           // a wide node, or a leaf with kLeafBit
+    std::vector<float> root_box_;      // box_dims_ lowest then box_dims_ highest coordinates (padding 0)
+    std::vector<Wide> wides_;
+    // per wide node: dims_ rows of kFanout lowest coordinates of its children's
+    // boxes, then dims_ rows of the highest (unused children: an empty box far away)
+    std::vector<float> child_boxes_;
+    std::vector<Leaf> leaves_;
     std::vector<float> coords_;        // leaf blocks: dims_ rows of the leaf's points, padded to 8
     std::vector<std::uint32_t> ids_;   // their ids, in leaf order
-    std::vector<Node> nodes_;
-    std::vector<float> boxes_;  // per node: box_dims_ lowest then box_dims_ highest coordinates (padding 0)
 };
 
 }  // namespace stepstone::kb
