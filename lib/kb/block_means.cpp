@@ -1,4 +1,5 @@
 #include "kb/block_means.hpp"
+#include "kb/detail/simd.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -12,7 +13,7 @@ BlockMeans::BlockMeans(std::size_t width, std::size_t channels, std::size_t bloc
     STEPSTONE_ASSERT(width >= 1 && channels >= 1);
 }
 
-double BlockMeans::point(const float* segment, double* out) const {
+STEPSTONE_KB_CLONES double BlockMeans::point(const float* segment, double* out) const {
     double max_abs = 0.0;
     for (std::size_t b = 0; b < blocks_; ++b) {
         const std::size_t first = b * width_ / blocks_;
@@ -49,7 +50,7 @@ double squared_gap(const double* a, const double* b, std::size_t n) {
     return (s[0] + s[1]) + (s[2] + s[3]);
 }
 
-float squared_gap(const float* a, const float* b, std::size_t n) {
+STEPSTONE_KB_CLONES float squared_gap(const float* a, const float* b, std::size_t n) {
     float s[8] = {};
     std::size_t k = 0;
     for (; k + 8 <= n; k += 8)

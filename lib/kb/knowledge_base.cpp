@@ -43,9 +43,7 @@ KnowledgeBase::KnowledgeBase(const KnowledgeBase& other)
       values_(other.values_),
       records_(other.records_),
       sources_(other.sources_),
-      index_(params_.segment_width, params_.channels) {
-    index_.assign(values_);
-}
+      index_(other.index_) {}
 
 KnowledgeBase& KnowledgeBase::operator=(const KnowledgeBase& other) {
     if (this != &other) {

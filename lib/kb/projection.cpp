@@ -1,4 +1,5 @@
 #include "kb/projection.hpp"
+#include "kb/detail/simd.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -95,9 +96,9 @@ Projection Projection::principal(const float* points, std::size_t count, std::si
     return p;
 }
 
-void Projection::apply(const double* in, double* out) const { project(rows_.data(), in_, out_, in, out); }
+STEPSTONE_KB_CLONES void Projection::apply(const double* in, double* out) const { project(rows_.data(), in_, out_, in, out); }
 
-void Projection::apply(const float* in, double* out) const { project(rows_.data(), in_, out_, in, out); }
+STEPSTONE_KB_CLONES void Projection::apply(const float* in, double* out) const { project(rows_.data(), in_, out_, in, out); }
 
 double Projection::orthonormality_error() const {
     double worst = 0.0;

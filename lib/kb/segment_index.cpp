@@ -19,11 +19,11 @@ namespace {
 
 // appended segments scanned linearly before they become a tree
 constexpr std::size_t kBufferSize = 64;
-constexpr std::size_t kLeafSize = 16;
+constexpr std::size_t kLeafSize = 8;
 // row blocks of the finer bound that filters the tree's candidates, and
 // dimension of the tree's points (its leading principal directions)
 constexpr std::size_t kFilterBlocks = 5;
-constexpr std::size_t kTreeDim = 12;
+constexpr std::size_t kTreeDim = 16;
 // the principal directions are fitted once the index holds this many segments
 constexpr std::size_t kMinPrincipal = 1024;
 // relative safety pad on lower bounds: rounding a block-means point (or its
@@ -116,6 +116,33 @@ SegmentIndex::SegmentIndex(std::size_t width, std::size_t channels) : width_(wid
 
 SegmentIndex::~SegmentIndex() = default;
 SegmentIndex::SegmentIndex(SegmentIndex&&) noexcept = default;
+
+SegmentIndex::SegmentIndex(const SegmentIndex& other)
+    : width_(other.width_),
+      channels_(other.channels_),
+      size_(other.size_),
+      fine_(std::make_unique<BlockMeans>(*other.fine_)),
+      projection_(std::make_unique<Projection>(*other.projection_)),
+      principal_size_(other.principal_size_),
+      filter_on_(other.filter_on_),
+      huge_(other.huge_),
+      tree_points_(other.tree_points_),
+      filter_points_(other.filter_points_),
+      max_abs_(other.max_abs_),
+      brute_force_(other.brute_force_),
+      candidate_fraction_(other.candidate_fraction_),
+      stats_(other.stats_) {
+    levels_.reserve(other.levels_.size());
+    for (const auto& level : other.levels_) levels_.push_back(std::make_unique<Level>(*level));
+}
+
+SegmentIndex& SegmentIndex::operator=(const SegmentIndex& other) {
+    if (this != &other) {
+        SegmentIndex copy(other);
+        *this = std::move(copy);
+    }
+    return *this;
+}
 SegmentIndex& SegmentIndex::operator=(SegmentIndex&&) noexcept = default;
 
 std::size_t SegmentIndex::tree_stride() const { return (projection_->out_dim() + 7) / 8 * 8; }

@@ -75,8 +75,9 @@ public:
     ~SegmentIndex();
     SegmentIndex(SegmentIndex&&) noexcept;
     SegmentIndex& operator=(SegmentIndex&&) noexcept;
-    SegmentIndex(const SegmentIndex&) = delete;
-    SegmentIndex& operator=(const SegmentIndex&) = delete;
+    /// A deep copy (trees, bound points, projection, path and counters).
+    SegmentIndex(const SegmentIndex& other);
+    SegmentIndex& operator=(const SegmentIndex& other);
 
     /// Values per segment (width x channels).
     std::size_t dim() const { return width_ * channels_; }
