@@ -108,6 +108,17 @@ struct Pending {
                 --k;
             }
             stack[k] = {w.child[c], gaps[c]};
+            // start loading what the child's visit reads
+            const std::uint32_t child = w.child[c];
+            if (child & BoundTree::kLeafBit) {
+                const float* block = t.coords + t.leaves[child & ~BoundTree::kLeafBit].block;
+                for (std::size_t line = 0; line < t.dims * kLanes * sizeof(float); line += 64)
+                    __builtin_prefetch(reinterpret_cast<const char*>(block) + line);
+            } else {
+                const float* box = t.child_boxes + std::size_t{child} * 2 * t.dims * kLanes;
+                for (std::size_t line = 0; line < 2 * t.dims * kLanes * sizeof(float); line += 64)
+                    __builtin_prefetch(reinterpret_cast<const char*>(box) + line);
+            }
         }
     }
 }
