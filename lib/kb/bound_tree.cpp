@@ -173,22 +173,33 @@ std::uint32_t BoundTree::build(std::vector<std::uint32_t>& order, std::size_t lo
                                std::vector<Binary>& binary, std::vector<float>& boxes) {
     const auto index = static_cast<std::uint32_t>(binary.size());
     binary.emplace_back();
-    // the tight bounding box of the range; split its widest axis at the
-    // median, unless the range is small enough or a single point repeated
+    // the tight bounding box of the range; unless the range is small enough
+    // or a single point repeated, split the axis of largest variance at the
+    // mean, moved into the middle half of the points (the widest axis at the
+    // median, as nanoflann does, gave boxes that a query visits ~25 % more
+    // often on behaviour data: the widest axis is often set by a few outliers)
     const std::size_t box = boxes.size();
     boxes.resize(box + 2 * dims_, 0.0f);
+    const auto n = static_cast<double>(hi - lo);
     std::size_t axis = 0;
     float width = 0.0f;
+    double spread = -1.0;
     for (std::size_t d = 0; d < dims_; ++d) {
         float a = std::numeric_limits<float>::max(), b = std::numeric_limits<float>::lowest();
+        double sum = 0.0, squares = 0.0;
         for (std::size_t i = lo; i < hi; ++i) {
-            a = std::min(a, points[order[i] * stride_ + d]);
-            b = std::max(b, points[order[i] * stride_ + d]);
+            const float v = points[order[i] * stride_ + d];
+            a = std::min(a, v);
+            b = std::max(b, v);
+            sum += v;
+            squares += static_cast<double>(v) * v;
         }
         boxes[box + d] = a;
         boxes[box + dims_ + d] = b;
-        if (b - a > width) {
-            width = b - a;
+        width = std::max(width, b - a);
+        const double variance = squares / n - (sum / n) * (sum / n);
+        if (b > a && variance > spread) {
+            spread = variance;
             axis = d;
         }
     }
@@ -197,8 +208,15 @@ std::uint32_t BoundTree::build(std::vector<std::uint32_t>& order, std::size_t lo
         binary[index].second = static_cast<std::uint32_t>(hi);
         return index;
     }
-    const std::size_t mid = lo + (hi - lo) / 2;
     const auto at = [&](std::uint32_t id) { return points[id * stride_ + axis]; };
+    double sum = 0.0;
+    for (std::size_t i = lo; i < hi; ++i) sum += at(order[i]);
+    const double mean = sum / n;
+    const auto below = std::count_if(order.begin() + static_cast<std::ptrdiff_t>(lo),
+                                     order.begin() + static_cast<std::ptrdiff_t>(hi),
+                                     [&](std::uint32_t id) { return static_cast<double>(at(id)) < mean; });
+    const std::size_t margin = std::max<std::size_t>(1, (hi - lo) / 4);
+    const std::size_t mid = std::clamp(lo + static_cast<std::size_t>(below), lo + margin, hi - margin);
     std::nth_element(order.begin() + static_cast<std::ptrdiff_t>(lo), order.begin() + static_cast<std::ptrdiff_t>(mid),
                      order.begin() + static_cast<std::ptrdiff_t>(hi),
                      [&](std::uint32_t a, std::uint32_t b) { return at(a) < at(b) || (at(a) == at(b) && a < b); });

@@ -19,7 +19,7 @@ namespace {
 
 // appended segments scanned linearly before they become a tree
 constexpr std::size_t kBufferSize = 64;
-constexpr std::size_t kLeafSize = 8;
+constexpr std::size_t kLeafSize = 16;
 // row blocks of the finer bound that filters the tree's candidates, and
 // dimension of the tree's points (its leading principal directions)
 constexpr std::size_t kFilterBlocks = 5;
