@@ -8,20 +8,22 @@
 
 namespace stepstone::kb {
 
-
 /// A static KD-tree over the first `dims` coordinates of float points stored
 /// `stride` floats apart, built for SegmentIndex's lower bounds.
 ///
-/// Every node keeps the tight bounding box of its points (all `dims`
-/// coordinates, not only the split planes on its path), and each leaf keeps
-/// its points coordinate-major in a block padded to a multiple of 8 points, so
-/// a visited leaf is scanned with the query's coordinates broadcast over 8
-/// points at a time. Gaps and box distances are sums of squares in single
-/// precision, each within a relative (dims + 2) x 2^-24 of its exact value,
-/// and the exact box distance of a node never exceeds the exact gap of a point
-/// it holds; callers put that slack and the rounding of the points into their
-/// limit (see SegmentIndex). The search loop has a generic and an AVX2 build
-/// (same arithmetic, picked at construction from the CPU).
+/// Built by binary splits (the axis of largest variance, at the mean moved
+/// into the middle half of the points) down to leaves of at most `leaf_size`
+/// points, then collapsed into nodes of up to kFanout children: each node
+/// keeps the tight bounding boxes of its children (all `dims` coordinates, not
+/// only the split planes on the path) coordinate-major, so the query's
+/// distances to its 8 children are computed 8 at a time, and each leaf keeps
+/// its points coordinate-major in a block padded to a multiple of 8 points.
+/// Gaps and box distances are sums of squares in single precision, each
+/// within a relative (dims + 2) x 2^-24 of its exact value, and the exact box
+/// distance of a node never exceeds the exact gap of a point it holds; callers
+/// put that slack and the rounding of the points into their limit (see
+/// SegmentIndex). The search loop has a generic and an AVX2 build (same
+/// arithmetic, picked at construction from the CPU).
 class BoundTree {
 public:
     /// Called for a point whose gap is within the limit; returns the new
