@@ -1,4 +1,5 @@
 #include "kb/distance.hpp"
+
 #include "kb/detail/simd.hpp"
 
 namespace stepstone::kb {

@@ -1,5 +1,4 @@
 #include "kb/projection.hpp"
-#include "kb/detail/simd.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -9,6 +8,7 @@
 #include <Eigen/Eigenvalues>
 
 #include "core/assert.hpp"
+#include "kb/detail/simd.hpp"
 
 namespace stepstone::kb {
 
