@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "core/assert.hpp"
+#include "kb/detail/simd.hpp"
 
 namespace stepstone::kb {
 
@@ -12,8 +13,17 @@ BlockMeans::BlockMeans(std::size_t width, std::size_t channels, std::size_t bloc
     STEPSTONE_ASSERT(width >= 1 && channels >= 1);
 }
 
-double BlockMeans::point(const float* segment, double* out) const {
-    double max_abs = 0.0;
+STEPSTONE_KB_CLONES double BlockMeans::point(const float* segment, double* out) const {
+    // the largest magnitude, taken in float (exact) over eight lanes
+    const std::size_t n = width_ * channels_;
+    float lanes[8] = {};
+    std::size_t k = 0;
+    for (; k + 8 <= n; k += 8)
+        for (std::size_t j = 0; j < 8; ++j) lanes[j] = std::max(lanes[j], std::fabs(segment[k + j]));
+    float largest = 0.0f;
+    for (; k < n; ++k) largest = std::max(largest, std::fabs(segment[k]));
+    for (const float lane : lanes) largest = std::max(largest, lane);
+
     for (std::size_t b = 0; b < blocks_; ++b) {
         const std::size_t first = b * width_ / blocks_;
         const std::size_t end = (b + 1) * width_ / blocks_;
@@ -21,17 +31,13 @@ double BlockMeans::point(const float* segment, double* out) const {
         for (std::size_t c = 0; c < channels_; ++c) p[c] = 0.0;
         for (std::size_t t = first; t < end; ++t) {
             const float* row = segment + t * channels_;
-            for (std::size_t c = 0; c < channels_; ++c) {
-                const double v = row[c];
-                p[c] += v;
-                max_abs = std::max(max_abs, std::fabs(v));
-            }
+            for (std::size_t c = 0; c < channels_; ++c) p[c] += static_cast<double>(row[c]);
         }
         // sum / rows * sqrt(rows) = sum / sqrt(rows)
         const double scale = 1.0 / std::sqrt(static_cast<double>(end - first));
         for (std::size_t c = 0; c < channels_; ++c) p[c] *= scale;
     }
-    return max_abs;
+    return static_cast<double>(largest);
 }
 
 double squared_gap(const double* a, const double* b, std::size_t n) {
@@ -49,7 +55,7 @@ double squared_gap(const double* a, const double* b, std::size_t n) {
     return (s[0] + s[1]) + (s[2] + s[3]);
 }
 
-float squared_gap(const float* a, const float* b, std::size_t n) {
+STEPSTONE_KB_CLONES float squared_gap(const float* a, const float* b, std::size_t n) {
     float s[8] = {};
     std::size_t k = 0;
     for (; k + 8 <= n; k += 8)

@@ -2,6 +2,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -10,18 +11,25 @@ namespace stepstone::kb {
 /// A static KD-tree over the first `dims` coordinates of float points stored
 /// `stride` floats apart, built for SegmentIndex's lower bounds.
 ///
-/// Each leaf keeps its points coordinate-major in a block padded to a
-/// multiple of 8 points, so a visited leaf is scanned with the query's
-/// coordinates broadcast over 8 points at a time (single precision: a sum of
-/// `dims` squares, within a relative (dims + 2) x 2^-24 of the exact gap). The
-/// traversal computes the distance from the query to each node's box in
-/// double, incrementally as nanoflann does (a child's box differs from its
-/// parent's on the split axis only); a node is skipped only when that distance
-/// exceeds the caller's limit, and leaf points are reported when their float
-/// gap is <= the limit. Callers put the rounding slack into the limit (see
-/// SegmentIndex).
+/// Built by binary splits (the axis of largest variance, at the mean moved
+/// into the middle half of the points) down to leaves of at most `leaf_size`
+/// points, then collapsed into nodes of up to kFanout children: each node
+/// keeps the tight bounding boxes of its children (all `dims` coordinates, not
+/// only the split planes on the path) coordinate-major, so the query's
+/// distances to its 8 children are computed 8 at a time, and each leaf keeps
+/// its points coordinate-major in a block padded to a multiple of 8 points.
+/// Gaps and box distances are sums of squares in single precision, each
+/// within a relative (dims + 2) x 2^-24 of its exact value, and the exact box
+/// distance of a node never exceeds the exact gap of a point it holds; callers
+/// put that slack and the rounding of the points into their limit (see
+/// SegmentIndex). The search loop has a generic and an AVX2 build (same
+/// arithmetic, picked at construction from the CPU).
 class BoundTree {
 public:
+    /// Called for a point whose gap is within the limit; returns the new
+    /// limit (which may only shrink).
+    using Visit = double (*)(void* context, std::size_t id);
+
     /// Builds over points[id * stride, (id + 1) * stride) for id in [begin, end).
     BoundTree(const float* points, std::size_t stride, std::size_t dims, std::size_t begin, std::size_t end,
               std::size_t leaf_size);
@@ -30,46 +38,71 @@ public:
     std::size_t end() const { return end_; }
     std::size_t size() const { return end_ - begin_; }
 
-    /// Appends (gap, id) for every point whose float gap to `query_f` is <=
-    /// `limit`, skipping boxes whose distance to `query` (double) exceeds it.
-    void within(const double* query, const float* query_f, double limit,
-                std::vector<std::pair<double, std::size_t>>& out) const;
+    /// Calls `visit(context, id)` for the points whose float gap to `query_f`
+    /// (padded with zeros to a multiple of 8 coordinates) is <= the current
+    /// limit, depth first with the child whose box is nearer first, skipping
+    /// every node whose box lies farther than the limit. `visit` returns the
+    /// new limit, e.g. the bound of the best match found so far.
+    void search(const float* query_f, double limit, Visit visit, void* context) const;
+
+    /// As search(), with a callable `visit(id) -> double`.
+    template <class F>
+    void search(const float* query_f, double limit, F&& visit) const {
+        search(
+            query_f, limit, [](void* c, std::size_t id) { return (*static_cast<std::remove_reference_t<F>*>(c))(id); },
+            const_cast<void*>(static_cast<const void*>(&visit)));
+    }
+
     /// The point of the leaf the query descends to with the smallest gap (an
     /// arbitrary but real point, for an upper bound).
-    std::size_t near_leaf_point(const double* query, const float* query_f) const;
+    std::size_t near_leaf_point(const float* query_f) const;
 
-    /// Bytes held per point (coordinates, ids, nodes).
+    /// Bytes held per point (coordinates, boxes, ids and nodes).
     double bytes_per_point() const;
 
-private:
-    struct Node {
-        std::uint32_t first = 0;   // leaf: point range in leaf order; inner: children
-        std::uint32_t second = 0;
-        std::uint64_t block = 0;   // leaf: offset of its coordinate block in coords_
-        std::int32_t axis = -1;    // -1 for a leaf
-        float low = 0.0f;          // inner: largest coordinate on the left
-        float high = 0.0f;         // inner: smallest coordinate on the right
+    /// Children of an inner node (up to kFanout): wide node indices, or leaf
+    /// indices with kLeafBit set.
+    static constexpr std::size_t kFanout = 8;
+    static constexpr std::uint32_t kLeafBit = 0x80000000u;
+    struct Wide {
+        std::uint32_t child[kFanout] = {};
+        std::uint32_t count = 0;
+    };
+    struct Leaf {
+        std::uint32_t first = 0;   // point range in leaf order
+        std::uint32_t count = 0;
+        std::uint64_t block = 0;   // offset of its coordinate block in coords_
     };
 
-    std::uint32_t build(std::vector<std::uint32_t>& order, std::size_t lo, std::size_t hi, const float* points);
-    void search(std::uint32_t node, double box, std::vector<double>& sides, const double* query, const float* query_f,
-                double limit, std::vector<std::pair<double, std::size_t>>& out) const;
-
-    // points a leaf scan handles at a time (a multiple of 8)
-    static constexpr std::size_t kChunk = 256;
-    // gaps[i] for the leaf's points [first, first + kChunk) (first a multiple
-    // of kChunk), padding points included
-    void scan_leaf(const Node& leaf, std::size_t first, const float* query_f, float* gaps) const;
+private:
+    // binary KD-tree built first (median split of the widest axis), then
+    // collapsed into nodes of up to kFanout children
+    struct Binary {
+        std::uint32_t first = 0;   // leaf: point range in leaf order; inner: children
+        std::uint32_t second = 0;
+        bool leaf = true;
+    };
+    std::uint32_t build(std::vector<std::uint32_t>& order, std::size_t lo, std::size_t hi, const float* points,
+                        std::vector<Binary>& binary, std::vector<float>& boxes);
+    std::uint32_t collapse(std::uint32_t node, const std::vector<Binary>& binary, const std::vector<float>& boxes,
+                           const std::vector<std::uint32_t>& order, const float* points);
 
     std::size_t stride_;
     std::size_t dims_;
+    std::size_t box_dims_;  // dims_ padded to a multiple of 8
     std::size_t begin_;
     std::size_t end_;
     std::size_t leaf_size_;
+    bool avx2_ = false;
+    std::uint32_t root_ = 0;           // a wide node, or a leaf with kLeafBit
+    std::vector<float> root_box_;      // box_dims_ lowest then box_dims_ highest coordinates (padding 0)
+    std::vector<Wide> wides_;
+    // per wide node: dims_ rows of kFanout lowest coordinates of its children's
+    // boxes, then dims_ rows of the highest (unused children: an empty box far away)
+    std::vector<float> child_boxes_;
+    std::vector<Leaf> leaves_;
     std::vector<float> coords_;        // leaf blocks: dims_ rows of the leaf's points, padded to 8
     std::vector<std::uint32_t> ids_;   // their ids, in leaf order
-    std::vector<Node> nodes_;
-    std::vector<float> box_;  // the lowest then the highest coordinates of all points
 };
 
 }  // namespace stepstone::kb

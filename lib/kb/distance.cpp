@@ -1,5 +1,7 @@
 #include "kb/distance.hpp"
 
+#include "kb/detail/simd.hpp"
+
 namespace stepstone::kb {
 
 namespace {
@@ -31,13 +33,13 @@ struct Lanes {
 
 }  // namespace
 
-double squared_distance(const float* a, const float* b, std::size_t dim) {
+STEPSTONE_KB_CLONES double squared_distance(const float* a, const float* b, std::size_t dim) {
     Lanes lanes;
     lanes.add(a, b, 0, dim);
     return lanes.total();
 }
 
-double squared_distance_up_to(const float* a, const float* b, std::size_t dim, double bound) {
+STEPSTONE_KB_CLONES double squared_distance_up_to(const float* a, const float* b, std::size_t dim, double bound) {
     Lanes lanes;
     std::size_t k = 0;
     // a partial total never exceeds the full one: every lane only grows

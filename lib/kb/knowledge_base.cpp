@@ -26,9 +26,19 @@ KbParams validated(KbParams params) {
     return params;
 }
 
-// index of the first non-finite value, or values.size()
+// index of the first non-finite value, or values.size(); v - v is 0 for a
+// finite v and NaN otherwise, so eight running sums of it stay 0 exactly when
+// every value is finite (a quick pass, then a search only on failure)
 std::size_t first_non_finite(std::span<const float> values) {
-    for (std::size_t k = 0; k < values.size(); ++k)
+    float lanes[8] = {};
+    std::size_t k = 0;
+    for (; k + 8 <= values.size(); k += 8)
+        for (std::size_t j = 0; j < 8; ++j) lanes[j] += values[k + j] - values[k + j];
+    bool finite = true;
+    for (const float lane : lanes) finite = finite && lane == 0.0f;
+    // all finite so far: only the tail is left to check
+    if (!finite) k = 0;
+    for (; k < values.size(); ++k)
         if (!std::isfinite(values[k])) return k;
     return values.size();
 }
@@ -43,9 +53,7 @@ KnowledgeBase::KnowledgeBase(const KnowledgeBase& other)
       values_(other.values_),
       records_(other.records_),
       sources_(other.sources_),
-      index_(params_.segment_width, params_.channels) {
-    index_.assign(values_);
-}
+      index_(other.index_) {}
 
 KnowledgeBase& KnowledgeBase::operator=(const KnowledgeBase& other) {
     if (this != &other) {

@@ -8,6 +8,7 @@
 #include <Eigen/Eigenvalues>
 
 #include "core/assert.hpp"
+#include "kb/detail/simd.hpp"
 
 namespace stepstone::kb {
 
@@ -95,9 +96,9 @@ Projection Projection::principal(const float* points, std::size_t count, std::si
     return p;
 }
 
-void Projection::apply(const double* in, double* out) const { project(rows_.data(), in_, out_, in, out); }
+STEPSTONE_KB_CLONES void Projection::apply(const double* in, double* out) const { project(rows_.data(), in_, out_, in, out); }
 
-void Projection::apply(const float* in, double* out) const { project(rows_.data(), in_, out_, in, out); }
+STEPSTONE_KB_CLONES void Projection::apply(const float* in, double* out) const { project(rows_.data(), in_, out_, in, out); }
 
 double Projection::orthonormality_error() const {
     double worst = 0.0;

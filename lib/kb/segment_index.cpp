@@ -23,7 +23,7 @@ constexpr std::size_t kLeafSize = 16;
 // row blocks of the finer bound that filters the tree's candidates, and
 // dimension of the tree's points (its leading principal directions)
 constexpr std::size_t kFilterBlocks = 5;
-constexpr std::size_t kTreeDim = 12;
+constexpr std::size_t kTreeDim = 16;
 // the principal directions are fitted once the index holds this many segments
 constexpr std::size_t kMinPrincipal = 1024;
 // relative safety pad on lower bounds: rounding a block-means point (or its
@@ -42,9 +42,6 @@ constexpr std::size_t kFilterMaxDim = 512;
 constexpr double kBruteAbove = 0.3;
 constexpr double kTreeBelow = 0.15;
 constexpr double kFractionDecay = 0.98;
-
-// a candidate: a key that grows with its lower bound, and its id
-using Candidate = std::pair<double, std::size_t>;
 
 // the best answer so far: smallest squared distance, ties to the lowest id
 struct Best {
@@ -119,6 +116,33 @@ SegmentIndex::SegmentIndex(std::size_t width, std::size_t channels) : width_(wid
 
 SegmentIndex::~SegmentIndex() = default;
 SegmentIndex::SegmentIndex(SegmentIndex&&) noexcept = default;
+
+SegmentIndex::SegmentIndex(const SegmentIndex& other)
+    : width_(other.width_),
+      channels_(other.channels_),
+      size_(other.size_),
+      fine_(std::make_unique<BlockMeans>(*other.fine_)),
+      projection_(std::make_unique<Projection>(*other.projection_)),
+      principal_size_(other.principal_size_),
+      filter_on_(other.filter_on_),
+      huge_(other.huge_),
+      tree_points_(other.tree_points_),
+      filter_points_(other.filter_points_),
+      max_abs_(other.max_abs_),
+      brute_force_(other.brute_force_),
+      candidate_fraction_(other.candidate_fraction_),
+      stats_(other.stats_) {
+    levels_.reserve(other.levels_.size());
+    for (const auto& level : other.levels_) levels_.push_back(std::make_unique<Level>(*level));
+}
+
+SegmentIndex& SegmentIndex::operator=(const SegmentIndex& other) {
+    if (this != &other) {
+        SegmentIndex copy(other);
+        *this = std::move(copy);
+    }
+    return *this;
+}
 SegmentIndex& SegmentIndex::operator=(SegmentIndex&&) noexcept = default;
 
 std::size_t SegmentIndex::tree_stride() const { return (projection_->out_dim() + 7) / 8 * 8; }
@@ -251,52 +275,35 @@ std::optional<Neighbour> SegmentIndex::search_within(std::span<const float> valu
         }
         if (candidates) *candidates = count ? seen : static_cast<std::size_t>(candidate_fraction_ * static_cast<double>(size_));
     } else {
-        // an upper bound first: the segment each tree's leaf holds closest to
-        // the query in the tree's space is often a match, and then only
-        // segments at most that far need to be searched
-        for (const auto& level : levels_) {
-            const std::size_t id = level->tree.near_leaf_point(q.point.data(), q.point_f.data());
-            const double bound = best.found ? best.n.squared_distance : radius_sq;
-            const double d2 = squared_distance_up_to(query, values.data() + id * n_dim, n_dim, bound);
-            if (d2 < radius_sq) best.offer(id, d2);
-        }
-        const double tree_limit = best.found ? q.key_limit(best.n.squared_distance) : search_limit;
-
-        // candidates from every tree and from the buffer
-        std::vector<Candidate> found;
-        for (const auto& level : levels_) level->tree.within(q.point.data(), q.point_f.data(), tree_limit, found);
-        const std::size_t indexed = levels_.empty() ? 0 : levels_.back()->end();
-        for (std::size_t id = indexed; id < size_; ++id) {
-            const double gap = squared_gap(q.point_f.data(), tree_points_.data() + id * stride, stride);
-            if (gap <= tree_limit) found.emplace_back(gap, id);
-        }
-        if (candidates) *candidates = found.size();
-
-        // the finer bound replaces the tree's as the key and drops the
-        // candidates it proves too far
-        if (!q.filter_point.empty()) {
-            const std::size_t f_dim = filter_dim();
-            std::size_t kept = 0;
-            for (const auto& [tree_key, id] : found) {
-                const double key = squared_gap(q.filter_point.data(), filter_points_.data() + id * f_dim, f_dim);
-                if (key <= tree_limit) found[kept++] = {key, id};
-            }
-            found.resize(kept);
-        }
-
-        // exact checks in increasing key; stop once the key proves the
-        // distance above the best
-        std::sort(found.begin(), found.end());
-        double limit = tree_limit;
-        for (const auto& [key, id] : found) {
-            if (key > limit) break;
+        // every tree, then the buffer: a segment whose projected bound passes
+        // is checked at once against its block-means bound and then in full,
+        // and each match shrinks the limit to the bound of the best distance
+        // found so far (a segment at an equal distance still passes: ties go
+        // to the lowest id)
+        const std::size_t f_dim = filter_dim();
+        const bool filter = !q.filter_point.empty();
+        double limit = search_limit;
+        std::size_t seen = 0;
+        const auto visit = [&](std::size_t id) {
+            ++seen;
+            if (filter &&
+                static_cast<double>(squared_gap(q.filter_point.data(), filter_points_.data() + id * f_dim, f_dim)) > limit)
+                return limit;
             const double bound = best.found ? best.n.squared_distance : radius_sq;
             const double d2 = squared_distance_up_to(query, values.data() + id * n_dim, n_dim, bound);
             if (d2 < radius_sq) {
                 best.offer(id, d2);
                 limit = q.key_limit(best.n.squared_distance);
             }
+            return limit;
+        };
+        for (const auto& level : levels_) level->tree.search(q.point_f.data(), limit, visit);
+        const std::size_t indexed = levels_.empty() ? 0 : levels_.back()->end();
+        for (std::size_t id = indexed; id < size_; ++id) {
+            const float gap = squared_gap(q.point_f.data(), tree_points_.data() + id * stride, stride);
+            if (static_cast<double>(gap) <= limit) visit(id);
         }
+        if (candidates) *candidates = seen;
     }
     if (!best.found) return std::nullopt;
     return best.n;
@@ -416,7 +423,7 @@ std::optional<Neighbour> SegmentIndex::nearest(std::span<const float> values, co
     Best best;
     const Search q = prepare(query);
     for (const auto& level : levels_) {
-        const std::size_t id = level->tree.near_leaf_point(q.point.data(), q.point_f.data());
+        const std::size_t id = level->tree.near_leaf_point(q.point_f.data());
         best.offer(id, squared_distance(query, values.data() + id * n_dim, n_dim));
     }
     const std::size_t indexed = levels_.empty() ? 0 : levels_.back()->end();

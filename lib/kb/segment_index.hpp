@@ -21,10 +21,10 @@ struct Neighbour {
 /// Counters of the work the index did, for benchmarks and tuning.
 struct IndexStats {
     std::uint64_t queries = 0;          ///< queries answered
-    /// Segments the trees and the buffer returned, i.e. whose projected lower
-    /// bound fell within the radius or the first upper bound (on the
-    /// brute-force path only every 16th query counts them against the radius;
-    /// the others add the running mean).
+    /// Segments whose projected lower bound passed the search limit (the
+    /// radius, shrinking to the bound of the best match found so far) in the
+    /// trees and the buffer (on the brute-force path only every 16th query
+    /// counts them against the radius; the others add the running mean).
     std::uint64_t candidates = 0;
     std::uint64_t linear_queries = 0;   ///< queries answered by the brute-force path
     std::uint64_t rebuilds = 0;         ///< KD-trees built
@@ -42,14 +42,13 @@ struct IndexStats {
 /// Cauchy-Schwarz; a projection with orthonormal rows (the leading principal
 /// directions of the indexed block means, or the channel means while the index
 /// is small) keeps a lower bound in a few dimensions. The projected points go
-/// into KD-trees (BoundTree); a query first takes an upper bound from the
-/// segment nearest in tree space in the leaf it falls into, then fetches every
-/// segment whose projected bound is within it (or within the radius), drops
-/// those whose block-means bound is not, and checks the rest in full
-/// dimension in increasing block-means bound, stopping as soon as the bound
-/// exceeds the best distance found. Bounds are kept in float with a safety
-/// pad (and a relative slack for float sums), so rounding can only add
-/// candidates, never lose one.
+/// into KD-trees (BoundTree) whose nodes keep tight bounding boxes; a query
+/// walks each tree depth first, nearer box first, and checks every segment
+/// whose projected bound passes against its block-means bound and then in full
+/// dimension; each match shrinks the search limit to the bound of the best
+/// distance found, so the rest of the walk prunes more. Bounds are kept in
+/// float with a safety pad (and a relative slack for float sums), so rounding
+/// can only add candidates, never lose one.
 ///
 /// Growth: appended segments go to a short buffer scanned linearly; a full
 /// buffer becomes a small tree, and trees are merged and rebuilt when a newer
@@ -76,8 +75,9 @@ public:
     ~SegmentIndex();
     SegmentIndex(SegmentIndex&&) noexcept;
     SegmentIndex& operator=(SegmentIndex&&) noexcept;
-    SegmentIndex(const SegmentIndex&) = delete;
-    SegmentIndex& operator=(const SegmentIndex&) = delete;
+    /// A deep copy (trees, bound points, projection, path and counters).
+    SegmentIndex(const SegmentIndex& other);
+    SegmentIndex& operator=(const SegmentIndex& other);
 
     /// Values per segment (width x channels).
     std::size_t dim() const { return width_ * channels_; }
