@@ -451,6 +451,12 @@ void add_kb_cases(Registry& registry) {
     registry.add(Case{"kb-load", "segments",
                       "a KB of 10^6 segments from arrays (checks, copy, index build) vs copying the arrays", 0.1,
                       make_load_workload});
+    add_kb_flann_case(registry);
+}
+
+KbQueries kb_queries(Size size) {
+    const Sizes s = sizes_of(size);
+    return KbQueries{realistic_kb(s.kb_size, 1000), realistic_generation(s.generation, 77).values};
 }
 
 KbMeasurements measure_kb(Size size) {

@@ -1,20 +1,22 @@
 #pragma once
 
 // `kb` cases of stepstone bench: the knowledge base's exact index against
-// brute force, on realistic synthetic behaviours and on uniform noise.
+// brute force, on realistic synthetic behaviours and on uniform noise, and
+// against FLANN's approximate kd-forest.
 
 #include <cstddef>
 #include <cstdint>
 #include <vector>
 
 #include "bench/registry.hpp"
+#include "kb/knowledge_base.hpp"
 
 namespace stepstone::bench {
 
 /// Registers `kb` (one paper generation's observe step: index vs batched brute
 /// force), `kb-loop` (same, vs a plain loop), `kb-uniform` (uniform random
-/// values, index vs batched brute force) and `kb-load` (building a KB and its
-/// index from arrays vs copying the arrays).
+/// values, index vs batched brute force), `kb-load` (building a KB and its
+/// index from arrays vs copying the arrays) and `kb-flann` (add_kb_flann_case).
 void add_kb_cases(Registry& registry);
 
 /// `policies` synthetic behaviours of `steps` x 15 channels (row-major, values
@@ -46,5 +48,38 @@ struct KbMeasurements {
 
 /// Measures every number of KbMeasurements (Size::quick: smaller KBs).
 KbMeasurements measure_kb(Size size);
+
+/// The realistic workload of the `kb` case: its KB (32,580 segments grown from
+/// earlier synthetic generations; Size::quick: 4,000) and the segments of the
+/// generation it observes (200 policies x 200 segments; Size::quick: 20
+/// policies), back to back, 300 values each.
+struct KbQueries {
+    kb::KnowledgeBase kb;
+    std::vector<float> queries;
+};
+KbQueries kb_queries(Size size);
+
+/// Registers `kb-flann`: lookups (KnowledgeBase::lookup, the path of r_max)
+/// of one generation's segments against FLANN's randomized kd-forest (4 trees,
+/// 128 checks, 1 nearest neighbour) on the same KB. Defined in
+/// bench_kb_flann.cpp.
+void add_kb_flann_case(Registry& registry);
+
+/// Numbers of the `kb-flann` case reported in docs/knowledge_base.md.
+struct KbFlannMeasurements {
+    std::size_t kb_size = 0;            ///< segments in the KB
+    std::size_t queries = 0;            ///< query segments (one generation)
+    double kb_build_seconds = 0;        ///< KnowledgeBase::from_segments (validation, copy, exact index)
+    double flann_build_seconds = 0;     ///< flann::Index::buildIndex, 4 randomized trees
+    double lookup_queries_per_s = 0;    ///< KnowledgeBase::lookup, within delta
+    double nearest_queries_per_s = 0;   ///< KnowledgeBase::nearest, whatever the distance
+    double flann_queries_per_s = 0;     ///< FLANN knnSearch, 1 neighbour, 128 checks
+    double recall = 0;                  ///< fraction of queries whose FLANN neighbour is the exact nearest
+    double match_agreement = 0;         ///< fraction whose within-delta match (segment or none) FLANN gets right
+    double within_delta = 0;            ///< fraction of queries with a KB segment within delta
+};
+
+/// Measures every number of KbFlannMeasurements once (Size::quick: smaller KB).
+KbFlannMeasurements measure_kb_flann(Size size);
 
 }  // namespace stepstone::bench
