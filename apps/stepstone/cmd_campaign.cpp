@@ -17,7 +17,7 @@ struct CampaignFlags {
     std::string config;
     std::string dir;
     unsigned jobs = 0;
-    unsigned threads = 1;
+    unsigned threads = 0;
     bool resume = false;
     bool dry_run = false;
     bool quiet = false;
@@ -57,7 +57,8 @@ void add_campaign_command(CLI::App& app) {
         ->required();
     cmd->add_option("--dir", flags->dir, "Campaign directory (campaign.db, one file per run, KBs, logs)");
     cmd->add_option("--jobs", flags->jobs, "Runs at a time (default: every core)");
-    cmd->add_option("--threads", flags->threads, "Evaluation threads of each run (default 1)")
+    cmd->add_option("--threads", flags->threads,
+                    "Evaluation threads of each run (default: the cores shared out among the runs going at once)")
         ->check(CLI::Range(1u, 1024u));
     cmd->add_flag("--resume", flags->resume, "Continue the campaign in --dir: finished runs are kept, others resumed");
     cmd->add_flag("--dry-run", flags->dry_run, "Print the plan and its estimated cost; run nothing");

@@ -41,7 +41,6 @@ void run_demo(const DemoFlags& flags) {
     options.dir = camp;
     options.program = fs::read_symlink("/proc/self/exe");
     options.jobs = flags.jobs;
-    options.threads = 1;
     options.resume = resume;
     options.progress = flags.quiet ? ProgressMode::quiet : ProgressMode::automatic;
     const auto summary = exp::run_campaign(options);

@@ -194,6 +194,10 @@ public:
             }
             queue.push_back(k);
         }
+        // results do not depend on threads: idle cores go to the runs of a small step
+        const std::size_t at_once = std::max<std::size_t>(1, std::min(jobs_, queue.size()));
+        threads_ = options_.threads > 0 ? options_.threads
+                                        : std::max(1u, resolve_threads(0) / static_cast<unsigned>(at_once));
         std::vector<std::string> failures;
         std::map<pid_t, Active> active;
         while (!queue.empty() || !active.empty()) {
@@ -258,7 +262,7 @@ private:
                                          "--generations",
                                          std::to_string(state.run.generations),
                                          "--threads",
-                                         std::to_string(std::max(1u, options_.threads)),
+                                         std::to_string(threads_),
                                          "--quiet"};
         if (fs::exists(file)) args.emplace_back("--resume");
         if (state.run.step == "target" && needs_kb(state.run.treatment)) {
@@ -353,6 +357,7 @@ private:
     std::vector<RunState>& runs_;
     Progress& progress_;
     std::size_t jobs_ = 1;
+    unsigned threads_ = 1;  // evaluation threads of each run of the step in progress
 };
 
 // -------------------------------------------------------------------- KB step

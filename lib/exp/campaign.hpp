@@ -93,7 +93,9 @@ struct CampaignOptions {
     std::filesystem::path dir;
     std::filesystem::path program;  ///< the stepstone binary that runs each `evolve`
     unsigned jobs = 0;              ///< runs at a time; 0 = every core
-    unsigned threads = 1;           ///< evaluation threads per run
+    /// Evaluation threads per run; 0 = the cores shared out among the runs
+    /// of a step that run at once (a lone source run gets every core).
+    unsigned threads = 0;
     bool resume = false;
     ProgressMode progress = ProgressMode::automatic;
 };
