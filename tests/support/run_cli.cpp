@@ -27,17 +27,27 @@ std::vector<std::string> CliResult::err_lines() const {
     return lines;
 }
 
+namespace {
+
+// the binary and `args` as execv wants them
+struct Argv {
+    explicit Argv(const std::vector<std::string>& args) : storage{STEPSTONE_BINARY} {
+        storage.insert(storage.end(), args.begin(), args.end());
+        for (auto& arg : storage) pointers.push_back(arg.data());
+        pointers.push_back(nullptr);
+    }
+    std::vector<std::string> storage;
+    std::vector<char*> pointers;
+};
+
+}  // namespace
+
 CliResult run_cli(const std::vector<std::string>& args, const std::filesystem::path& cwd) {
     TempDir capture;
     const auto out_path = capture / "out";
     const auto err_path = capture / "err";
 
-    std::vector<std::string> argv_storage{STEPSTONE_BINARY};
-    argv_storage.insert(argv_storage.end(), args.begin(), args.end());
-    std::vector<char*> argv;
-    for (auto& arg : argv_storage) argv.push_back(arg.data());
-    argv.push_back(nullptr);
-
+    Argv argv(args);
     const pid_t pid = ::fork();
     if (pid < 0) throw std::runtime_error("fork failed");
     if (pid == 0) {
@@ -49,7 +59,7 @@ CliResult run_cli(const std::vector<std::string>& args, const std::filesystem::p
         ::dup2(out, 1);
         ::dup2(err, 2);
         if (!cwd.empty() && ::chdir(cwd.c_str()) != 0) ::_exit(127);
-        ::execv(argv[0], argv.data());
+        ::execv(argv.pointers[0], argv.pointers.data());
         ::_exit(127);
     }
     int status = 0;
@@ -63,19 +73,14 @@ CliResult run_cli(const std::vector<std::string>& args, const std::filesystem::p
 
 bool run_cli_killed_when(const std::vector<std::string>& args, const std::function<bool()>& ready,
                          std::chrono::seconds timeout) {
-    std::vector<std::string> argv_storage{STEPSTONE_BINARY};
-    argv_storage.insert(argv_storage.end(), args.begin(), args.end());
-    std::vector<char*> argv;
-    for (auto& arg : argv_storage) argv.push_back(arg.data());
-    argv.push_back(nullptr);
-
+    Argv argv(args);
     const pid_t pid = ::fork();
     if (pid < 0) throw std::runtime_error("fork failed");
     if (pid == 0) {
         const int null = ::open("/dev/null", O_WRONLY);
         ::dup2(null, STDOUT_FILENO);
         ::dup2(null, STDERR_FILENO);
-        ::execv(argv[0], argv.data());
+        ::execv(argv.pointers[0], argv.pointers.data());
         ::_exit(127);
     }
     const auto deadline = std::chrono::steady_clock::now() + timeout;
