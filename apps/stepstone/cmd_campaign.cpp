@@ -6,7 +6,6 @@
 
 #include "commands.hpp"
 #include "core/error.hpp"
-#include "core/text.hpp"
 #include "exp/campaign.hpp"
 
 namespace stepstone::app {
@@ -32,7 +31,6 @@ void run_campaign_command(const CampaignFlags& flags) {
     exp::CampaignOptions options;
     options.config_path = flags.config;
     options.dir = flags.dir;
-    options.program = std::filesystem::read_symlink("/proc/self/exe");
     options.jobs = flags.jobs;
     options.threads = flags.threads;
     options.resume = flags.resume;
@@ -42,11 +40,7 @@ void run_campaign_command(const CampaignFlags& flags) {
               << "finished " << summary.finished << "\n"
               << "already_finished " << summary.skipped << "\n"
               << "failed " << summary.failures.size() << "\n";
-    if (!summary.failures.empty()) {
-        for (const auto& failure : summary.failures) std::cerr << "campaign: failed: " << failure << "\n";
-        throw Error(concat(summary.failures.size(), " run(s) failed (logs in ", flags.dir,
-                           "/logs); fix the cause and add --resume"));
-    }
+    exp::throw_on_failures(summary, flags.dir, std::cerr);
 }
 
 void add_campaign_command(CLI::App& app) {

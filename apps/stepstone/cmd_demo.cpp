@@ -7,7 +7,6 @@
 #include "commands.hpp"
 #include "core/error.hpp"
 #include "db/database.hpp"
-#include "core/text.hpp"
 #include "db/kb_store.hpp"
 #include "exp/campaign.hpp"
 #include "exp/campaign_stats.hpp"
@@ -39,17 +38,12 @@ void run_demo(const DemoFlags& flags) {
     exp::CampaignOptions options;
     options.config_path = config;
     options.dir = camp;
-    options.program = fs::read_symlink("/proc/self/exe");
     options.jobs = flags.jobs;
     options.resume = resume;
     options.progress = flags.quiet ? ProgressMode::quiet : ProgressMode::automatic;
     const auto summary = exp::run_campaign(options);
-    std::cout << "   " << summary.finished << "/" << summary.runs << " runs finished";
-    if (!summary.failures.empty()) {
-        for (const auto& failure : summary.failures) std::cerr << "demo: failed: " << failure << "\n";
-        throw Error(concat(summary.failures.size(), " run(s) failed (logs in ", (camp / "logs").string(), ")"));
-    }
-    std::cout << "\n";
+    std::cout << "   " << summary.finished << "/" << summary.runs << " runs finished" << std::endl;
+    exp::throw_on_failures(summary, camp, std::cerr);
 
     // 2. the best source policy replays to its stored reward
     const fs::path source = camp / "source" / "seed-1.db";

@@ -8,6 +8,10 @@
 
 namespace stepstone {
 
+double now_seconds() {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
 std::string format_duration(double seconds) {
     if (!std::isfinite(seconds) || seconds < 0) return "?";
     auto s = static_cast<long long>(std::llround(seconds));

@@ -54,6 +54,9 @@ private:
     std::chrono::milliseconds line_interval_{5000};
 };
 
+/// Seconds on the steady clock, for measuring durations (the origin is arbitrary).
+double now_seconds();
+
 /// "1h02m", "3m05s" or "12s".
 std::string format_duration(double seconds);
 

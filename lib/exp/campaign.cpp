@@ -11,7 +11,6 @@
 #include <cstdio>
 #include <deque>
 #include <fstream>
-#include <limits>
 #include <map>
 #include <set>
 #include <thread>
@@ -38,12 +37,6 @@ namespace {
 constexpr const char* kCampaignFile = "campaign.db";
 constexpr const char* kKbFile = "kb/kb.db";
 constexpr const char* kRandomKbFile = "kb/kb-rand.db";
-constexpr std::int64_t kMaxSeed = std::numeric_limits<std::int64_t>::max();
-
-double now_seconds() {
-    using Clock = std::chrono::steady_clock;
-    return std::chrono::duration<double>(Clock::now().time_since_epoch()).count();
-}
 
 // ------------------------------------------------------------------- config
 
@@ -622,7 +615,16 @@ CampaignIndex load_campaign(const fs::path& dir) {
     return index;
 }
 
-CampaignSummary run_campaign(const CampaignOptions& options) {
+void throw_on_failures(const CampaignSummary& summary, const fs::path& dir, std::ostream& err) {
+    if (summary.failures.empty()) return;
+    for (const auto& failure : summary.failures) err << "campaign: failed: " << failure << "\n";
+    throw Error(concat(summary.failures.size(), " run(s) failed (logs in ", (dir / "logs").string(),
+                       "); fix the cause and resume the campaign"));
+}
+
+CampaignSummary run_campaign(const CampaignOptions& given) {
+    CampaignOptions options = given;
+    if (options.program.empty()) options.program = fs::read_symlink("/proc/self/exe");
     const CampaignConfig config = CampaignConfig::load(options.config_path);
     const auto plan = plan_runs(config);
     const fs::path campaign_path = options.dir / kCampaignFile;
@@ -637,23 +639,26 @@ CampaignSummary run_campaign(const CampaignOptions& options) {
         db::OutputDatabase output(campaign_path, false);
         auto& connection = output.connection();
         connection.prepare(db::sql("campaign/insert_campaign.sql")).bind(1, config.to_json().dump()).step();
-        for (std::size_t k = 0; k < plan.size(); ++k) {
-            connection.prepare(db::sql("campaign/insert_run.sql"))
-                .bind(1, static_cast<std::int64_t>(k + 1))
-                .bind(2, plan[k].step)
-                .bind(3, to_string(plan[k].treatment))
-                .bind(4, static_cast<std::int64_t>(plan[k].seed))
-                .bind(5, plan[k].file)
-                .bind(6, plan[k].generations)
-                .step();
-        }
+        {
+            auto insert = connection.prepare(db::sql("campaign/insert_run.sql"));
+            for (std::size_t k = 0; k < plan.size(); ++k) {
+                insert.reset();
+                insert.bind(1, static_cast<std::int64_t>(k + 1))
+                    .bind(2, plan[k].step)
+                    .bind(3, to_string(plan[k].treatment))
+                    .bind(4, static_cast<std::int64_t>(plan[k].seed))
+                    .bind(5, plan[k].file)
+                    .bind(6, plan[k].generations)
+                    .step();
+            }
+        }  // the statement is finalized before the file is moved into place
         output.commit();
-    } else {
-        if (!fs::exists(campaign_path)) {
-            throw ConfigError(concat(dir_name, " holds no ", kCampaignFile, "; run without --resume to start it"));
-        }
-        const auto stored = load_campaign(options.dir);
-        const std::string diff = first_difference(stored.config, config.to_json());
+    } else if (!fs::exists(campaign_path)) {
+        throw ConfigError(concat(dir_name, " holds no ", kCampaignFile, "; run without --resume to start it"));
+    }
+    const auto index = load_campaign(options.dir);
+    if (options.resume) {
+        const std::string diff = first_difference(index.config, config.to_json());
         if (!diff.empty()) {
             throw ConfigError(concat(dir_name, ": the config differs from the campaign's at ", diff));
         }
@@ -664,7 +669,6 @@ CampaignSummary run_campaign(const CampaignOptions& options) {
     write_step_config(options.dir / "config" / "target.json", config.target);
 
     db::Connection connection = db::open_database(campaign_path, db::OpenMode::read_write);
-    const auto index = load_campaign(options.dir);
     std::vector<RunState> runs;
     for (std::size_t k = 0; k < index.runs.size(); ++k) {
         RunState state;

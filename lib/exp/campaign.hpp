@@ -91,7 +91,7 @@ CampaignCost estimate_cost(const CampaignConfig& config, double measure_seconds 
 struct CampaignOptions {
     std::filesystem::path config_path;
     std::filesystem::path dir;
-    std::filesystem::path program;  ///< the stepstone binary that runs each `evolve`
+    std::filesystem::path program;  ///< the stepstone binary that runs each `evolve` (empty: this process's own)
     unsigned jobs = 0;              ///< runs at a time; 0 = every core
     /// Evaluation threads per run; 0 = the cores shared out among the runs
     /// of a step that run at once (a lone source run gets every core).
@@ -116,6 +116,11 @@ struct CampaignSummary {
 /// Throws ConfigError for bad options or config, DatabaseError for an
 /// unusable campaign.db.
 CampaignSummary run_campaign(const CampaignOptions& options);
+
+/// Returns if no run failed; otherwise writes one "campaign: failed: FILE:
+/// ERROR" line per failed run to `err` and throws Error with their count and
+/// the folder of their logs under `dir`.
+void throw_on_failures(const CampaignSummary& summary, const std::filesystem::path& dir, std::ostream& err);
 
 /// Where a campaign's runs and KBs are, read from campaign.db.
 struct CampaignIndex {

@@ -41,25 +41,29 @@ std::vector<Evaluation> evaluate_all(const sim::Task& task, std::span<const nn::
     std::vector<Evaluation> results(genomes.size());
     const std::size_t width = behaviours ? task.behaviour_size() : 0;
     if (behaviours) behaviours->assign(genomes.size() * width, 0.0f);
+    parallel_for(genomes.size(), threads, [&](std::size_t k) {
+        std::span<float> behaviour;
+        if (behaviours) behaviour = std::span<float>(behaviours->data() + k * width, width);
+        results[k] = evaluate_genome(task, genomes[k], dnn, behaviour);
+    });
+    return results;
+}
 
-    // OpenMP hands out indices; each evaluation writes only its own slot
+void parallel_for(std::size_t count, unsigned threads, const std::function<void(std::size_t)>& body) {
+    // OpenMP hands out indices; each call writes only its own slot
     std::exception_ptr failure;
-    const auto count = static_cast<int>(genomes.size());
-    const int thread_count = static_cast<int>(std::min<std::size_t>(resolve_threads(threads), genomes.size()));
+    const auto n = static_cast<int>(count);
+    const int thread_count = static_cast<int>(std::min<std::size_t>(resolve_threads(threads), count));
 #pragma omp parallel for schedule(dynamic, 1) num_threads(thread_count > 0 ? thread_count : 1)
-    for (int i = 0; i < count; ++i) {
-        const auto k = static_cast<std::size_t>(i);
+    for (int i = 0; i < n; ++i) {
         try {
-            std::span<float> behaviour;
-            if (behaviours) behaviour = std::span<float>(behaviours->data() + k * width, width);
-            results[k] = evaluate_genome(task, genomes[k], dnn, behaviour);
+            body(static_cast<std::size_t>(i));
         } catch (...) {
-#pragma omp critical(stepstone_evaluation_failure)
+#pragma omp critical(stepstone_parallel_for_failure)
             if (!failure) failure = std::current_exception();
         }
     }
     if (failure) std::rethrow_exception(failure);
-    return results;
 }
 
 }  // namespace stepstone::exp

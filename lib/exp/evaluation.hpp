@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <span>
 #include <vector>
@@ -37,5 +38,11 @@ std::vector<Evaluation> evaluate_all(const sim::Task& task, std::span<const nn::
 
 /// Threads to use for `requested` (0 = every core of the machine).
 unsigned resolve_threads(unsigned requested);
+
+/// Calls body(k) for every k in [0, count) on `threads` threads (0 = every
+/// core), indices handed out one at a time. `body` must write only what
+/// belongs to index k, so the result does not depend on the thread count.
+/// The first exception a call throws is rethrown once every thread stopped.
+void parallel_for(std::size_t count, unsigned threads, const std::function<void(std::size_t)>& body);
 
 }  // namespace stepstone::exp

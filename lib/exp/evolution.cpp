@@ -1,9 +1,7 @@
 #include "exp/evolution.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
-#include <exception>
 #include <filesystem>
 #include <numeric>
 
@@ -25,11 +23,6 @@
 namespace stepstone::exp {
 
 namespace {
-
-double now_seconds() {
-    using Clock = std::chrono::steady_clock;
-    return std::chrono::duration<double>(Clock::now().time_since_epoch()).count();
-}
 
 double median(std::vector<double> values) {
     if (values.empty()) return 0.0;
@@ -176,22 +169,11 @@ std::vector<Evaluation> Evolution::evaluate(const std::vector<nn::Genome>& genom
     const std::size_t width = task_->behaviour_size();
     if (shape) {
         // lookups only read the KB: each policy's r_max goes to its own slot
-        const auto count = static_cast<int>(genomes.size());
         const auto segment_width = shaping_kb_->params().segment_width;
-        std::exception_ptr failure;
-#pragma omp parallel for schedule(dynamic, 4) num_threads(static_cast<int>(threads_))
-        for (int i = 0; i < count; ++i) {
-            const auto k = static_cast<std::size_t>(i);
-            try {
-                const std::span<const float> behaviour(behaviours.data() + k * width, width);
-                evaluations[k].r_max =
-                    shaping_kb_->r_max(kb::segment_behaviour(behaviour, sim::kChannels, segment_width));
-            } catch (...) {
-#pragma omp critical(stepstone_shaping_failure)
-                if (!failure) failure = std::current_exception();
-            }
-        }
-        if (failure) std::rethrow_exception(failure);
+        parallel_for(genomes.size(), threads_, [&](std::size_t k) {
+            const std::span<const float> behaviour(behaviours.data() + k * width, width);
+            evaluations[k].r_max = shaping_kb_->r_max(kb::segment_behaviour(behaviour, sim::kChannels, segment_width));
+        });
     }
     time_kb_ = now_seconds() - started - time_simulation_;
     if (!observe) return evaluations;

@@ -1,6 +1,5 @@
 #include "exp/evolve_config.hpp"
 
-#include <limits>
 
 #include "core/config.hpp"
 #include "core/error.hpp"
@@ -9,8 +8,6 @@
 namespace stepstone::exp {
 
 namespace {
-
-constexpr std::int64_t kMaxSeed = std::numeric_limits<std::int64_t>::max();
 
 sim::TaskConfig read_task(JsonReader reader) {
     sim::TaskConfig task;

@@ -2,6 +2,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <limits>
 #include <optional>
 #include <string>
 
@@ -12,6 +13,9 @@
 #include "sim/task.hpp"
 
 namespace stepstone::exp {
+
+/// The largest seed a config accepts (seeds are stored as SQLite integers).
+inline constexpr std::int64_t kMaxSeed = std::numeric_limits<std::int64_t>::max();
 
 /// NSGA-II settings (ORIGINAL.md 7). Defaults are the paper's.
 struct EaConfig {

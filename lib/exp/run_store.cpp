@@ -1,8 +1,8 @@
 #include "exp/run_store.hpp"
 
-#include <chrono>
 
 #include "core/error.hpp"
+#include "core/progress.hpp"
 #include "core/text.hpp"
 #include "db/database.hpp"
 #include "db/kb_store.hpp"
@@ -67,7 +67,7 @@ RunRecord load_run(db::Connection& connection) {
 void write_generation(db::Connection& connection, RunRecord& run, const GenerationWrite& write) {
     db::Transaction transaction(connection);
 
-    const auto started = std::chrono::steady_clock::now();
+    const double started = now_seconds();
     const auto& s = write.stats;
     // every evaluated individual
     auto individual = connection.prepare(db::sql("run/insert_individual.sql"));
@@ -104,7 +104,7 @@ void write_generation(db::Connection& connection, RunRecord& run, const Generati
     checkpoint.bind(1, run.id).bind(2, s.generation).bind(3, write.checkpoint.dump()).run();
 
     // statistics last, so they can hold the time the other writes took
-    const double time_database = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    const double time_database = now_seconds() - started;
     auto generation = connection.prepare(db::sql("run/insert_generation.sql"));
     generation.bind(generation.parameter(":run_id"), run.id)
         .bind(generation.parameter(":generation"), s.generation)
