@@ -1,6 +1,7 @@
 #include "kb/bound_tree.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <limits>
 
@@ -15,6 +16,15 @@ static_assert(BoundTree::kFanout == kLanes);
 // eight floats as one value (GCC and Clang vector extension; lowered to the
 // target's vector width)
 typedef float Lanes __attribute__((vector_size(kLanes * sizeof(float))));
+
+typedef std::int32_t Flags __attribute__((vector_size(kLanes * sizeof(std::int32_t))));
+
+// the smallest float >= x (x >= 0)
+float float_at_least(double x) {
+    float f = static_cast<float>(x);
+    if (static_cast<double>(f) < x) f = std::nextafter(f, std::numeric_limits<float>::infinity());
+    return f;
+}
 
 std::size_t padded(std::size_t n) { return (n + kLanes - 1) / kLanes * kLanes; }
 
@@ -62,18 +72,78 @@ struct View {
     std::memcpy(out, &acc, sizeof(acc));
 }
 
-struct Pending {
-    std::uint32_t node;
-    float gap;
-};
+using Pending = BoundTree::Walk::Pending;
+static_assert(BoundTree::Walk::kStack >= 64 * BoundTree::kFanout);
+
+void prefetch(const void* data, std::size_t bytes) {
+    for (std::size_t line = 0; line < bytes; line += 64) __builtin_prefetch(static_cast<const char*>(data) + line);
+}
+
+// starts loading what visiting `node` reads
+[[gnu::always_inline]] inline void prefetch_node(const View& t, std::uint32_t node) {
+    if (node & BoundTree::kLeafBit) {
+        prefetch(t.coords + t.leaves[node & ~BoundTree::kLeafBit].block, t.dims * kLanes * sizeof(float));
+    } else {
+        prefetch(t.child_boxes + std::size_t{node} * 2 * t.dims * kLanes, 2 * t.dims * kLanes * sizeof(float));
+    }
+}
+
+// pushes the children of wide node `node` whose box gap is within the limit,
+// farthest first (insertion into the stack's top keeps them ordered), and
+// starts loading what their visits read
+[[gnu::always_inline]] inline void expand(const View& t, std::uint32_t node, const float* query_f, double limit,
+                                          Pending* stack, std::size_t& top, bool prefetch_children) {
+    const BoundTree::Wide& w = t.wides[node];
+    float gaps[kLanes];
+    child_gaps(t, node, query_f, gaps);
+    const std::size_t base = top;
+    for (std::size_t c = 0; c < w.count; ++c) {
+        if (static_cast<double>(gaps[c]) > limit) continue;
+        std::size_t k = top++;
+        while (k > base && stack[k - 1].gap < gaps[c]) {
+            stack[k] = stack[k - 1];
+            --k;
+        }
+        stack[k] = {w.child[c], gaps[c]};
+        if (prefetch_children) prefetch_node(t, w.child[c]);
+    }
+}
+
+// calls report(id, gap) for the points of leaf `node` whose gap is within
+// the limit; report returns the new limit
+template <class Report>
+[[gnu::always_inline]] inline double scan_leaf(const View& t, std::uint32_t node, const float* query_f, double limit,
+                                               Report&& report) {
+    const BoundTree::Leaf& leaf = t.leaves[node & ~BoundTree::kLeafBit];
+    const std::size_t count = leaf.count, width = padded(count);
+    const float* block = t.coords + leaf.block;
+    for (std::size_t i0 = 0; i0 < count; i0 += kLanes) {
+        float gaps[kLanes];
+        leaf_gaps(t, block, width, i0, query_f, gaps);
+        // the lanes within the limit (rounded up to float: a superset), as
+        // bits; padding lanes excluded
+        Lanes g;
+        std::memcpy(&g, gaps, sizeof(g));
+        const Lanes lim = Lanes{} + float_at_least(limit);
+        const Flags within = g <= lim;
+        unsigned bits = 0;
+        for (std::size_t j = 0; j < kLanes; ++j) bits |= static_cast<unsigned>(within[j] & 1) << j;
+        const std::size_t n = std::min(kLanes, count - i0);
+        bits &= (1u << n) - 1u;
+        while (bits != 0) {
+            const auto i = static_cast<std::size_t>(__builtin_ctz(bits));
+            bits &= bits - 1;
+            if (static_cast<double>(gaps[i]) <= limit) limit = report(t.ids[leaf.first + i0 + i], gaps[i]);
+        }
+    }
+    return limit;
+}
 
 // depth first, nearer boxes first; a node is entered only while its box gap
 // is within the (shrinking) limit
 [[gnu::always_inline]] inline void search_loop(const View& t, std::uint32_t root, float root_gap, const float* query_f,
                                                double limit, BoundTree::Visit visit, void* context) {
-    // each wide node on the path leaves at most kFanout - 1 pending children
-    constexpr std::size_t kStack = 64 * BoundTree::kFanout;
-    Pending stack[kStack];
+    Pending stack[BoundTree::Walk::kStack];
     std::size_t top = 0;
     if (static_cast<double>(root_gap) > limit) return;
     stack[top++] = {root, root_gap};
@@ -81,46 +151,47 @@ struct Pending {
         const Pending p = stack[--top];
         if (static_cast<double>(p.gap) > limit) continue;
         if (p.node & BoundTree::kLeafBit) {
-            const BoundTree::Leaf& leaf = t.leaves[p.node & ~BoundTree::kLeafBit];
-            const std::size_t count = leaf.count, width = padded(count);
-            const float* block = t.coords + leaf.block;
-            for (std::size_t i0 = 0; i0 < count; i0 += kLanes) {
-                float gaps[kLanes];
-                leaf_gaps(t, block, width, i0, query_f, gaps);
-                const std::size_t n = std::min(kLanes, count - i0);
-                for (std::size_t i = 0; i < n; ++i)
-                    if (static_cast<double>(gaps[i]) <= limit)
-                        limit = visit(context, std::size_t{t.ids[leaf.first + i0 + i]});
-            }
-            continue;
-        }
-        const BoundTree::Wide& w = t.wides[p.node];
-        float gaps[kLanes];
-        child_gaps(t, p.node, query_f, gaps);
-        // the children within the limit, pushed farthest first (insertion
-        // into the stack's top keeps them ordered)
-        const std::size_t base = top;
-        for (std::size_t c = 0; c < w.count; ++c) {
-            if (static_cast<double>(gaps[c]) > limit) continue;
-            std::size_t k = top++;
-            while (k > base && stack[k - 1].gap < gaps[c]) {
-                stack[k] = stack[k - 1];
-                --k;
-            }
-            stack[k] = {w.child[c], gaps[c]};
-            // start loading what the child's visit reads
-            const std::uint32_t child = w.child[c];
-            if (child & BoundTree::kLeafBit) {
-                const float* block = t.coords + t.leaves[child & ~BoundTree::kLeafBit].block;
-                for (std::size_t line = 0; line < t.dims * kLanes * sizeof(float); line += 64)
-                    __builtin_prefetch(reinterpret_cast<const char*>(block) + line);
-            } else {
-                const float* box = t.child_boxes + std::size_t{child} * 2 * t.dims * kLanes;
-                for (std::size_t line = 0; line < 2 * t.dims * kLanes * sizeof(float); line += 64)
-                    __builtin_prefetch(reinterpret_cast<const char*>(box) + line);
-            }
+            limit = scan_leaf(t, p.node, query_f, limit,
+                              [&](std::uint32_t id, float) { return visit(context, std::size_t{id}); });
+        } else {
+            expand(t, p.node, query_f, limit, stack, top, true);
         }
     }
+}
+
+// one step of a Walk: the pending nodes within the limit, until a leaf has
+// points within it (the caller checks them before the walk goes on, so the
+// limit shrinks as in search_loop) or none is left. The children's data is
+// not prefetched here: the walks of other queries run between two steps, so
+// only the next node's is
+[[gnu::always_inline]] inline void walk_step(const View& t, const float* query_f, double limit, Pending* stack,
+                                             std::size_t& top, std::vector<BoundTree::Found>& found) {
+    while (top > 0) {
+        const Pending p = stack[--top];
+        if (static_cast<double>(p.gap) > limit) continue;
+        if (p.node & BoundTree::kLeafBit) {
+            scan_leaf(t, p.node, query_f, limit, [&](std::uint32_t id, float gap) {
+                found.push_back({id, gap});
+                return limit;
+            });
+        } else {
+            expand(t, p.node, query_f, limit, stack, top, false);
+        }
+        if (!found.empty()) break;
+    }
+    // the next node within the limit: the walk's next step reads it
+    while (top > 0 && static_cast<double>(stack[top - 1].gap) > limit) --top;
+    if (top > 0) prefetch_node(t, stack[top - 1].node);
+}
+
+void walk_generic(const View& t, const float* query_f, double limit, Pending* stack, std::size_t& top,
+                  std::vector<BoundTree::Found>& found) {
+    walk_step(t, query_f, limit, stack, top, found);
+}
+
+[[gnu::target("avx2")]] void walk_avx2(const View& t, const float* query_f, double limit, Pending* stack,
+                                       std::size_t& top, std::vector<BoundTree::Found>& found) {
+    walk_step(t, query_f, limit, stack, top, found);
 }
 
 void search_generic(const View& t, std::uint32_t root, float root_gap, const float* query_f, double limit,
@@ -284,17 +355,38 @@ std::uint32_t BoundTree::collapse(std::uint32_t node, const std::vector<Binary>&
     return index;
 }
 
-void BoundTree::search(const float* query_f, double limit, Visit visit, void* context) const {
-    const View view{wides_.data(), child_boxes_.data(), leaves_.data(), coords_.data(), ids_.data(), dims_};
+double BoundTree::root_gap(const float* query_f) const {
     // the box of all points, in double (a few coordinates, once per search)
-    double root_gap = 0.0;
+    double gap2 = 0.0;
     for (std::size_t d = 0; d < dims_; ++d) {
         const double below = static_cast<double>(root_box_[d]) - static_cast<double>(query_f[d]);
         const double above = static_cast<double>(query_f[d]) - static_cast<double>(root_box_[box_dims_ + d]);
         const double gap = std::max({below, above, 0.0});
-        root_gap += gap * gap;
+        gap2 += gap * gap;
     }
-    if (root_gap > limit) return;
+    return gap2;
+}
+
+void BoundTree::Walk::start(const BoundTree& tree, const float* query_f, double limit) {
+    tree_ = &tree;
+    query_f_ = query_f;
+    top_ = 0;
+    if (tree.root_gap(query_f) > limit) return;
+    stack_[top_++] = {tree.root_, 0.0f};
+    prefetch_node(tree.view<View>(), tree.root_);
+}
+
+void BoundTree::Walk::step(double limit, std::vector<Found>& found) {
+    if (tree_->avx2_) {
+        walk_avx2(tree_->view<View>(), query_f_, limit, stack_, top_, found);
+    } else {
+        walk_generic(tree_->view<View>(), query_f_, limit, stack_, top_, found);
+    }
+}
+
+void BoundTree::search(const float* query_f, double limit, Visit visit, void* context) const {
+    const View view = this->view<View>();
+    if (root_gap(query_f) > limit) return;
     if (avx2_) {
         search_avx2(view, root_, 0.0f, query_f, limit, visit, context);
     } else {
@@ -303,7 +395,7 @@ void BoundTree::search(const float* query_f, double limit, Visit visit, void* co
 }
 
 std::size_t BoundTree::near_leaf_point(const float* query_f) const {
-    const View view{wides_.data(), child_boxes_.data(), leaves_.data(), coords_.data(), ids_.data(), dims_};
+    const View view = this->view<View>();
     std::uint32_t node = root_;
     while (!(node & kLeafBit)) {
         float gaps[kLanes];

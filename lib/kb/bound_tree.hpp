@@ -53,6 +53,46 @@ public:
             const_cast<void*>(static_cast<const void*>(&visit)));
     }
 
+    /// A point a Walk found within its limit, and its float gap.
+    struct Found {
+        std::uint32_t id;
+        float gap;
+    };
+
+    /// One search() made resumable a node at a time, so that the searches of
+    /// several queries can take turns: each step ends by prefetching what the
+    /// walk's next step reads, and the other walks' steps hide that latency
+    /// (SegmentIndex::nearest_within_batch). Visits the nodes of search() in
+    /// the same order for the same limits.
+    class Walk {
+    public:
+        /// Starts a search of `tree` (which must outlive the walk) for
+        /// `query_f`, padded as for search().
+        void start(const BoundTree& tree, const float* query_f, double limit);
+        /// True once no node is left within the limits given.
+        bool done() const { return top_ == 0; }
+        /// Takes the next node within `limit` (skipping the others): a wide
+        /// node pushes its children within the limit, nearer first; a leaf
+        /// appends its points whose gap is within the limit to `found`.
+        void step(double limit, std::vector<Found>& found);
+
+        /// A node left for later and its box gap.
+        struct Pending {
+            std::uint32_t node;
+            float gap;
+        };
+        /// Each wide node on the path leaves at most kFanout - 1 pending
+        /// children; trees are far shallower than 64 wide levels.
+        static constexpr std::size_t kStack = 64 * 8;
+
+    private:
+
+        const BoundTree* tree_ = nullptr;
+        const float* query_f_ = nullptr;
+        std::size_t top_ = 0;
+        Pending stack_[kStack];
+    };
+
     /// The point of the leaf the query descends to with the smallest gap (an
     /// arbitrary but real point, for an upper bound).
     std::size_t near_leaf_point(const float* query_f) const;
@@ -82,6 +122,13 @@ private:
         std::uint32_t second = 0;
         bool leaf = true;
     };
+    // squared distance (double) from the query to the box of all points
+    double root_gap(const float* query_f) const;
+    // the arrays a search reads, as the search loop's aggregate `V`
+    template <class V>
+    V view() const {
+        return V{wides_.data(), child_boxes_.data(), leaves_.data(), coords_.data(), ids_.data(), dims_};
+    }
     std::uint32_t build(std::vector<std::uint32_t>& order, std::size_t lo, std::size_t hi, const float* points,
                         std::vector<Binary>& binary, std::vector<float>& boxes);
     std::uint32_t collapse(std::uint32_t node, const std::vector<Binary>& binary, const std::vector<float>& boxes,

@@ -226,8 +226,9 @@ SegmentMatch KnowledgeBase::match_of(const float* segment) const {
 std::vector<SegmentMatch> KnowledgeBase::matches_of(Segments segments) const {
     std::vector<SegmentMatch> out;
     out.reserve(segments.size());
-    if (params_.match == Match::within_delta && index_.brute_force() && segments.size() > 1) {
-        // one pass over the KB for the whole policy
+    if (params_.match == Match::within_delta && segments.size() > 1) {
+        // the whole policy at once: one pass over the KB (brute force) or
+        // interleaved tree walks
         std::vector<std::optional<Neighbour>> near(segments.size());
         index_.nearest_within_batch(values_, segments.values.data(), segments.size(), params_.delta, near);
         for (const auto& n : near) {

@@ -43,19 +43,6 @@ constexpr double kBruteAbove = 0.3;
 constexpr double kTreeBelow = 0.15;
 constexpr double kFractionDecay = 0.98;
 
-// the best answer so far: smallest squared distance, ties to the lowest id
-struct Best {
-    bool found = false;
-    Neighbour n;
-
-    void offer(std::size_t id, double d2) {
-        if (!found || d2 < n.squared_distance || (d2 == n.squared_distance && id < n.id)) {
-            found = true;
-            n = {id, d2};
-        }
-    }
-};
-
 // values covered by the single-precision prefilter of the brute-force path
 constexpr std::size_t kPrefilterValues = 32;
 // above this magnitude float squares could overflow: no prefilter
@@ -80,7 +67,28 @@ bool prefix_exceeds(float prefix, double bound) {
     return static_cast<double>(prefix) > bound * (1.0 + 1e-5) + 1e-30;
 }
 
+// bytes of a candidate's values loaded ahead of its full distance (the
+// hardware streams the rest once the first lines are read)
+constexpr std::size_t kValuesAhead = 256;
+
+void prefetch(const void* data, std::size_t bytes) {
+    for (std::size_t line = 0; line < bytes; line += 64) __builtin_prefetch(static_cast<const char*>(data) + line);
+}
+
 }  // namespace
+
+// the best answer so far: smallest squared distance, ties to the lowest id
+struct SegmentIndex::Best {
+    bool found = false;
+    Neighbour n;
+
+    void offer(std::size_t id, double d2) {
+        if (!found || d2 < n.squared_distance || (d2 == n.squared_distance && id < n.id)) {
+            found = true;
+            n = {id, d2};
+        }
+    }
+};
 
 struct SegmentIndex::Level {
     BoundTree tree;
@@ -91,6 +99,7 @@ struct SegmentIndex::Level {
 
 // a query's lower-bound points and the pads their magnitude requires
 struct SegmentIndex::Search {
+    std::vector<double> fine;         // block-means point
     std::vector<double> point;        // tree point, padded to tree_stride()
     std::vector<float> point_f;       // the same in float
     std::vector<float> filter_point;  // empty when the filter is off for this query
@@ -179,18 +188,26 @@ void SegmentIndex::choose_projection() {
 
 SegmentIndex::Search SegmentIndex::prepare(const float* query) const {
     Search search;
-    std::vector<double> fine(filter_dim());
-    const double q_abs = fine_->point(query, fine.data());
+    prepare(query, search);
+    return search;
+}
+
+void SegmentIndex::prepare(const float* query, Search& search) const {
+    search.fine.resize(filter_dim());
+    const double q_abs = fine_->point(query, search.fine.data());
     const double max_abs = std::max(max_abs_, q_abs);
     search.max_abs = max_abs;
     search.point.assign(tree_stride(), 0.0);
-    projection_->apply(fine.data(), search.point.data());
+    projection_->apply(search.fine.data(), search.point.data());
     search.point_f.assign(search.point.begin(), search.point.end());
     search.pad = kPadRelative * (1.0 + max_abs) * std::sqrt(static_cast<double>(dim()));
     const std::size_t terms = std::max(tree_stride(), filter_dim()) + 8;
     search.slack = kSumSlackPerTerm * static_cast<double>(terms) + 0x1p-20;
-    if (filter_on_) search.filter_point.assign(fine.begin(), fine.end());
-    return search;
+    if (filter_on_) {
+        search.filter_point.assign(search.fine.begin(), search.fine.end());
+    } else {
+        search.filter_point.clear();
+    }
 }
 
 void SegmentIndex::append(const float* segment) {
@@ -246,6 +263,119 @@ double SegmentIndex::bytes_per_segment() const {
     return bytes;
 }
 
+bool SegmentIndex::passes_filter(const Search& q, std::size_t id, double limit) const {
+    if (q.filter_point.empty()) return true;
+    const std::size_t f_dim = filter_dim();
+    return static_cast<double>(squared_gap(q.filter_point.data(), filter_points_.data() + id * f_dim, f_dim)) <= limit;
+}
+
+void SegmentIndex::check(std::span<const float> values, const float* query, const Search& q, double radius_sq,
+                         std::size_t id, Best& best, double& limit) const {
+    const std::size_t n_dim = dim();
+    const double bound = best.found ? best.n.squared_distance : radius_sq;
+    const double d2 = squared_distance_up_to(query, values.data() + id * n_dim, n_dim, bound);
+    if (d2 < radius_sq) {
+        best.offer(id, d2);
+        limit = q.key_limit(best.n.squared_distance);
+    }
+}
+
+template <class Visit>
+void SegmentIndex::scan_buffer(const Search& q, const double& limit, Visit&& visit) const {
+    const std::size_t stride = tree_stride();
+    const std::size_t indexed = levels_.empty() ? 0 : levels_.back()->end();
+    for (std::size_t id = indexed; id < size_; ++id) {
+        const float gap = squared_gap(q.point_f.data(), tree_points_.data() + id * stride, stride);
+        if (static_cast<double>(gap) <= limit) visit(id);
+    }
+}
+
+// one query of tree_batch(): its walk through the trees and the candidates
+// waiting for their data to arrive
+struct SegmentIndex::Turn {
+    std::size_t query = 0;  // index in the batch
+    Search q;
+    Best best;
+    double limit = 0.0;
+    std::size_t level = 0;
+    std::size_t seen = 0;
+    BoundTree::Walk walk;
+    std::vector<BoundTree::Found> found;  // tree candidates, filter points loading
+    std::vector<std::uint32_t> close;     // past the filter, values loading
+};
+
+std::size_t SegmentIndex::tree_batch(std::span<const float> values, const float* queries, std::size_t count,
+                                     double radius, std::span<std::optional<Neighbour>> out) const {
+    // a walk through the trees is a chain of dependent loads (a node's
+    // children are known once it is read); several queries take turns, one
+    // step each, and every step prefetches what its walk's next step reads,
+    // so that the loads of one walk overlap the work of the others. Each
+    // query's answer is the one search_within() gives: its nodes are visited
+    // in the same order, only the checks of a leaf's candidates come a turn
+    // or two later (with the limit of that time)
+    const std::size_t n_dim = dim();
+    const std::size_t f_dim = filter_dim();
+    const double radius_sq = radius * radius;
+    constexpr std::size_t kTurns = 4;
+    std::vector<std::unique_ptr<Turn>> turns;
+    std::size_t next = 0, total_seen = 0;
+    const auto begin_query = [&](Turn& t) {
+        t.query = next++;
+        prepare(queries + t.query * n_dim, t.q);
+        t.best = Best{};
+        t.limit = t.q.key_limit(radius_sq);
+        t.level = 0;
+        t.seen = 0;
+        t.walk.start(levels_[0]->tree, t.q.point_f.data(), t.limit);
+    };
+    for (std::size_t i = 0; i < std::min(kTurns, count); ++i) {
+        turns.push_back(std::make_unique<Turn>());
+        begin_query(*turns.back());
+    }
+    std::size_t running = turns.size();
+    while (running > 0) {
+        for (auto& slot : turns) {
+            if (!slot) continue;
+            Turn& t = *slot;
+            const float* query = queries + t.query * n_dim;
+            if (!t.close.empty()) {
+                for (const std::uint32_t id : t.close) check(values, query, t.q, radius_sq, id, t.best, t.limit);
+                t.close.clear();
+            } else if (!t.found.empty()) {
+                for (const BoundTree::Found& f : t.found) {
+                    if (static_cast<double>(f.gap) > t.limit) continue;
+                    ++t.seen;
+                    if (!passes_filter(t.q, f.id, t.limit)) continue;
+                    t.close.push_back(f.id);
+                    prefetch(values.data() + std::size_t{f.id} * n_dim, std::min<std::size_t>(n_dim * sizeof(float), kValuesAhead));
+                }
+                t.found.clear();
+            } else if (!t.walk.done()) {
+                t.walk.step(t.limit, t.found);
+                if (!t.q.filter_point.empty())
+                    for (const BoundTree::Found& f : t.found)
+                        prefetch(filter_points_.data() + std::size_t{f.id} * f_dim, f_dim * sizeof(float));
+            } else if (t.level + 1 < levels_.size()) {
+                t.walk.start(levels_[++t.level]->tree, t.q.point_f.data(), t.limit);
+            } else {
+                scan_buffer(t.q, t.limit, [&](std::size_t id) {
+                    ++t.seen;
+                    if (passes_filter(t.q, id, t.limit)) check(values, query, t.q, radius_sq, id, t.best, t.limit);
+                });
+                out[t.query] = t.best.found ? std::optional<Neighbour>(t.best.n) : std::nullopt;
+                total_seen += t.seen;
+                if (next < count) {
+                    begin_query(t);
+                } else {
+                    slot.reset();
+                    --running;
+                }
+            }
+        }
+    }
+    return total_seen;
+}
+
 std::optional<Neighbour> SegmentIndex::search_within(std::span<const float> values, const float* query,
                                                      double radius, bool brute,
                                                      std::size_t* candidates) const {
@@ -280,29 +410,16 @@ std::optional<Neighbour> SegmentIndex::search_within(std::span<const float> valu
         // and each match shrinks the limit to the bound of the best distance
         // found so far (a segment at an equal distance still passes: ties go
         // to the lowest id)
-        const std::size_t f_dim = filter_dim();
-        const bool filter = !q.filter_point.empty();
         double limit = search_limit;
         std::size_t seen = 0;
         const auto visit = [&](std::size_t id) {
             ++seen;
-            if (filter &&
-                static_cast<double>(squared_gap(q.filter_point.data(), filter_points_.data() + id * f_dim, f_dim)) > limit)
-                return limit;
-            const double bound = best.found ? best.n.squared_distance : radius_sq;
-            const double d2 = squared_distance_up_to(query, values.data() + id * n_dim, n_dim, bound);
-            if (d2 < radius_sq) {
-                best.offer(id, d2);
-                limit = q.key_limit(best.n.squared_distance);
-            }
+            if (!passes_filter(q, id, limit)) return limit;
+            check(values, query, q, radius_sq, id, best, limit);
             return limit;
         };
         for (const auto& level : levels_) level->tree.search(q.point_f.data(), limit, visit);
-        const std::size_t indexed = levels_.empty() ? 0 : levels_.back()->end();
-        for (std::size_t id = indexed; id < size_; ++id) {
-            const float gap = squared_gap(q.point_f.data(), tree_points_.data() + id * stride, stride);
-            if (static_cast<double>(gap) <= limit) visit(id);
-        }
+        scan_buffer(q, limit, visit);
         if (candidates) *candidates = seen;
     }
     if (!best.found) return std::nullopt;
@@ -378,9 +495,11 @@ void SegmentIndex::nearest_within_batch(std::span<const float> values, const flo
     STEPSTONE_ASSERT(out.size() >= count);
     if (brute_force()) {
         brute_batch(values, queries, count, radius, out);
-        return;
+    } else if (levels_.empty()) {
+        for (std::size_t i = 0; i < count; ++i) out[i] = search_within(values, queries + i * dim(), radius, false, nullptr);
+    } else {
+        tree_batch(values, queries, count, radius, out);
     }
-    for (std::size_t i = 0; i < count; ++i) out[i] = search_within(values, queries + i * dim(), radius, false, nullptr);
 }
 
 void SegmentIndex::nearest_within_batch_adaptive(std::span<const float> values, const float* queries,

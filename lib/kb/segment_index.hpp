@@ -128,12 +128,22 @@ public:
 private:
     struct Level;
     struct Search;
+    struct Turn;
+    struct Best;
 
     std::size_t tree_stride() const;
     std::size_t filter_dim() const;
     void project(std::size_t id);
     void choose_projection();
     Search prepare(const float* query) const;
+    void prepare(const float* query, Search& search) const;
+    bool passes_filter(const Search& q, std::size_t id, double limit) const;
+    void check(std::span<const float> values, const float* query, const Search& q, double radius_sq, std::size_t id,
+               Best& best, double& limit) const;
+    template <class Visit>
+    void scan_buffer(const Search& q, const double& limit, Visit&& visit) const;
+    std::size_t tree_batch(std::span<const float> values, const float* queries, std::size_t count, double radius,
+                           std::span<std::optional<Neighbour>> out) const;
     void add_point(const float* segment);
     void grow_levels();
     void rebuild_level_from(std::size_t first_level);

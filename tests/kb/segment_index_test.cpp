@@ -28,6 +28,19 @@ std::optional<std::pair<std::size_t, double>> oracle_within(const std::vector<fl
 void check_queries(kb::SegmentIndex& index, const std::vector<float>& values, const std::vector<float>& queries,
                    double radius) {
     const std::size_t dim = index.dim();
+    // all queries at once (interleaved tree walks or one brute-force pass),
+    // before the adaptive queries below can change the path
+    const std::size_t count = queries.size() / dim;
+    std::vector<std::optional<kb::Neighbour>> batch(count);
+    index.nearest_within_batch(values, queries.data(), count, radius, batch);
+    for (std::size_t i = 0; i < count; ++i) {
+        const auto expect = oracle_within(values, dim, queries.data() + i * dim, radius);
+        REQUIRE(batch[i].has_value() == expect.has_value());
+        if (expect) {
+            REQUIRE(batch[i]->id == expect->first);
+            REQUIRE(batch[i]->squared_distance == expect->second);
+        }
+    }
     for (std::size_t i = 0; i * dim < queries.size(); ++i) {
         const float* q = queries.data() + i * dim;
         const auto expect = oracle_within(values, dim, q, radius);
