@@ -23,7 +23,7 @@ constexpr std::size_t kLeafSize = 16;
 // row blocks of the finer bound that filters the tree's candidates, and
 // dimension of the tree's points (its leading principal directions)
 constexpr std::size_t kFilterBlocks = 5;
-constexpr std::size_t kTreeDim = 16;
+constexpr std::size_t kTreeDim = 20;
 // the principal directions are fitted once the index holds this many segments
 constexpr std::size_t kMinPrincipal = 1024;
 // relative safety pad on lower bounds: rounding a block-means point (or its
