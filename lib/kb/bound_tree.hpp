@@ -6,6 +6,8 @@
 #include <utility>
 #include <vector>
 
+#include "kb/detail/huge_pages.hpp"
+
 namespace stepstone::kb {
 
 /// A static KD-tree over the first `dims` coordinates of float points stored
@@ -148,7 +150,7 @@ private:
     // boxes, then dims_ rows of the highest (unused children: an empty box far away)
     std::vector<float> child_boxes_;
     std::vector<Leaf> leaves_;
-    std::vector<float> coords_;        // leaf blocks: dims_ rows of the leaf's points, padded to 8
+    detail::HugeVector<float> coords_;        // leaf blocks: dims_ rows of the leaf's points, padded to 8
     std::vector<std::uint32_t> ids_;   // their ids, in leaf order
 };
 

@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "kb/detail/huge_pages.hpp"
+
 #include "kb/segment_index.hpp"
 #include "kb/segments.hpp"
 
@@ -175,7 +177,7 @@ private:
     std::vector<SegmentMatch> matches_of(Segments segments) const;
 
     KbParams params_;
-    std::vector<float> values_;
+    detail::HugeVector<float> values_;
     std::vector<SegmentRecord> records_;
     std::vector<Source> sources_;
     SegmentIndex index_;

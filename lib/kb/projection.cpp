@@ -33,9 +33,10 @@ void orthonormalise(std::vector<double>& rows, std::size_t count, std::size_t n)
     }
 }
 
-// out[r] = row r . in, with four partial sums so that it vectorises
+// out[r] = row r . in, with four partial sums so that it vectorises (inlined
+// into each build of apply())
 template <class T>
-void project(const double* rows, std::size_t in_dim, std::size_t out_dim, const T* in, double* out) {
+[[gnu::always_inline]] inline void project(const double* rows, std::size_t in_dim, std::size_t out_dim, const T* in, double* out) {
     for (std::size_t r = 0; r < out_dim; ++r) {
         const double* row = rows + r * in_dim;
         double s[4] = {};

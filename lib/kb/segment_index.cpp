@@ -67,10 +67,6 @@ bool prefix_exceeds(float prefix, double bound) {
     return static_cast<double>(prefix) > bound * (1.0 + 1e-5) + 1e-30;
 }
 
-// bytes of a candidate's values loaded ahead of its full distance (the
-// hardware streams the rest once the first lines are read)
-constexpr std::size_t kValuesAhead = 256;
-
 void prefetch(const void* data, std::size_t bytes) {
     for (std::size_t line = 0; line < bytes; line += 64) __builtin_prefetch(static_cast<const char*>(data) + line);
 }
@@ -347,7 +343,7 @@ std::size_t SegmentIndex::tree_batch(std::span<const float> values, const float*
                     ++t.seen;
                     if (!passes_filter(t.q, f.id, t.limit)) continue;
                     t.close.push_back(f.id);
-                    prefetch(values.data() + std::size_t{f.id} * n_dim, std::min<std::size_t>(n_dim * sizeof(float), kValuesAhead));
+                    prefetch(values.data() + std::size_t{f.id} * n_dim, n_dim * sizeof(float));
                 }
                 t.found.clear();
             } else if (!t.walk.done()) {

@@ -7,6 +7,8 @@
 #include <span>
 #include <vector>
 
+#include "kb/detail/huge_pages.hpp"
+
 namespace stepstone::kb {
 
 class BlockMeans;
@@ -164,9 +166,9 @@ private:
     bool huge_ = false;  // values too large for the float points: brute force only
     std::vector<double> scratch_;  // one point while appending
     // tree points: tree_stride() floats per segment (projected filter points)
-    std::vector<float> tree_points_;
+    detail::HugeVector<float> tree_points_;
     // filter points: filter_dim() floats per segment (block means)
-    std::vector<float> filter_points_;
+    detail::HugeVector<float> filter_points_;
     std::vector<std::unique_ptr<Level>> levels_;
     double max_abs_ = 0.0;
     bool brute_force_ = false;
