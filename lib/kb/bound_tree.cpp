@@ -26,6 +26,13 @@ float float_at_least(double x) {
     return f;
 }
 
+// bit j set when lane j of a comparison holds
+[[gnu::always_inline]] inline unsigned lane_bits(const Flags& flags) {
+    unsigned bits = 0;
+    for (std::size_t j = 0; j < kLanes; ++j) bits |= static_cast<unsigned>(flags[j] & 1) << j;
+    return bits;
+}
+
 std::size_t padded(std::size_t n) { return (n + kLanes - 1) / kLanes * kLanes; }
 
 // what the search loop reads of a tree
@@ -79,7 +86,9 @@ void prefetch(const void* data, std::size_t bytes) {
     for (std::size_t line = 0; line < bytes; line += 64) __builtin_prefetch(static_cast<const char*>(data) + line);
 }
 
-// starts loading what visiting `node` reads
+// starts loading what visiting `node` reads (of a leaf, the first
+// dims x 8 floats: loading a whole leaf of 16 points measured slower; the
+// hardware streams the rest)
 [[gnu::always_inline]] inline void prefetch_node(const View& t, std::uint32_t node) {
     if (node & BoundTree::kLeafBit) {
         prefetch(t.coords + t.leaves[node & ~BoundTree::kLeafBit].block, t.dims * kLanes * sizeof(float));
@@ -89,15 +98,21 @@ void prefetch(const void* data, std::size_t bytes) {
 }
 
 // pushes the children of wide node `node` whose box gap is within the limit,
-// farthest first (insertion into the stack's top keeps them ordered), and
-// starts loading what their visits read
+// farthest first (insertion into the stack's top keeps them ordered)
 [[gnu::always_inline]] inline void expand(const View& t, std::uint32_t node, const float* query_f, double limit,
-                                          Pending* stack, std::size_t& top, bool prefetch_children) {
+                                          Pending* stack, std::size_t& top) {
     const BoundTree::Wide& w = t.wides[node];
     float gaps[kLanes];
     child_gaps(t, node, query_f, gaps);
+    // the children within the limit (rounded up to float: a superset) as
+    // bits; unused lanes hold an infinite gap
+    Lanes g;
+    std::memcpy(&g, gaps, sizeof(g));
+    unsigned bits = lane_bits(g <= (Lanes{} + float_at_least(limit)));
     const std::size_t base = top;
-    for (std::size_t c = 0; c < w.count; ++c) {
+    while (bits != 0) {
+        const auto c = static_cast<std::size_t>(__builtin_ctz(bits));
+        bits &= bits - 1;
         if (static_cast<double>(gaps[c]) > limit) continue;
         std::size_t k = top++;
         while (k > base && stack[k - 1].gap < gaps[c]) {
@@ -105,7 +120,8 @@ void prefetch(const void* data, std::size_t bytes) {
             --k;
         }
         stack[k] = {w.child[c], gaps[c]};
-        if (prefetch_children) prefetch_node(t, w.child[c]);
+        // a leaf is read in full as soon as it is taken: start loading it
+        if (w.child[c] & BoundTree::kLeafBit) prefetch_node(t, w.child[c]);
     }
 }
 
@@ -124,10 +140,7 @@ template <class Report>
         // bits; padding lanes excluded
         Lanes g;
         std::memcpy(&g, gaps, sizeof(g));
-        const Lanes lim = Lanes{} + float_at_least(limit);
-        const Flags within = g <= lim;
-        unsigned bits = 0;
-        for (std::size_t j = 0; j < kLanes; ++j) bits |= static_cast<unsigned>(within[j] & 1) << j;
+        unsigned bits = lane_bits(g <= (Lanes{} + float_at_least(limit)));
         const std::size_t n = std::min(kLanes, count - i0);
         bits &= (1u << n) - 1u;
         while (bits != 0) {
@@ -154,16 +167,15 @@ template <class Report>
             limit = scan_leaf(t, p.node, query_f, limit,
                               [&](std::uint32_t id, float) { return visit(context, std::size_t{id}); });
         } else {
-            expand(t, p.node, query_f, limit, stack, top, true);
+            expand(t, p.node, query_f, limit, stack, top);
         }
     }
 }
 
 // one step of a Walk: the pending nodes within the limit, until a leaf has
 // points within it (the caller checks them before the walk goes on, so the
-// limit shrinks as in search_loop) or none is left. The children's data is
-// not prefetched here: the walks of other queries run between two steps, so
-// only the next node's is
+// limit shrinks as in search_loop) or none is left; then starts loading the
+// next node, which the walk reads at its next turn
 [[gnu::always_inline]] inline void walk_step(const View& t, const float* query_f, double limit, Pending* stack,
                                              std::size_t& top, std::vector<BoundTree::Found>& found) {
     while (top > 0) {
@@ -175,7 +187,7 @@ template <class Report>
                 return limit;
             });
         } else {
-            expand(t, p.node, query_f, limit, stack, top, false);
+            expand(t, p.node, query_f, limit, stack, top);
         }
         if (!found.empty()) break;
     }
