@@ -22,7 +22,13 @@ typedef std::int32_t Flags __attribute__((vector_size(kLanes * sizeof(std::int32
 // the smallest float >= x (x >= 0)
 float float_at_least(double x) {
     float f = static_cast<float>(x);
-    if (static_cast<double>(f) < x) f = std::nextafter(f, std::numeric_limits<float>::infinity());
+    if (static_cast<double>(f) < x) {
+        // the next float up (f is finite and >= 0 here: x < inf rounded down)
+        std::uint32_t bits;
+        std::memcpy(&bits, &f, sizeof(bits));
+        ++bits;
+        std::memcpy(&f, &bits, sizeof(f));
+    }
     return f;
 }
 
@@ -133,14 +139,32 @@ template <class Report>
     const BoundTree::Leaf& leaf = t.leaves[node & ~BoundTree::kLeafBit];
     const std::size_t count = leaf.count, width = padded(count);
     const float* block = t.coords + leaf.block;
+    // the points within the limit (rounded up to float: a superset) as bits,
+    // padding points excluded; a leaf of 9 to 16 points (the usual one)
+    // takes both its groups of 8 at once
+    const float limit_f = float_at_least(limit);
+    if (width == 2 * kLanes) {
+        float gaps[2 * kLanes];
+        leaf_gaps(t, block, width, 0, query_f, gaps);
+        leaf_gaps(t, block, width, kLanes, query_f, gaps + kLanes);
+        Lanes low, high;
+        std::memcpy(&low, gaps, sizeof(low));
+        std::memcpy(&high, gaps + kLanes, sizeof(high));
+        const Lanes lim = Lanes{} + limit_f;
+        unsigned bits = (lane_bits(low <= lim) | lane_bits(high <= lim) << kLanes) & ((1u << count) - 1u);
+        while (bits != 0) {
+            const auto i = static_cast<std::size_t>(__builtin_ctz(bits));
+            bits &= bits - 1;
+            if (static_cast<double>(gaps[i]) <= limit) limit = report(t.ids[leaf.first + i], gaps[i]);
+        }
+        return limit;
+    }
     for (std::size_t i0 = 0; i0 < count; i0 += kLanes) {
         float gaps[kLanes];
         leaf_gaps(t, block, width, i0, query_f, gaps);
-        // the lanes within the limit (rounded up to float: a superset), as
-        // bits; padding lanes excluded
         Lanes g;
         std::memcpy(&g, gaps, sizeof(g));
-        unsigned bits = lane_bits(g <= (Lanes{} + float_at_least(limit)));
+        unsigned bits = lane_bits(g <= (Lanes{} + limit_f));
         const std::size_t n = std::min(kLanes, count - i0);
         bits &= (1u << n) - 1u;
         while (bits != 0) {
