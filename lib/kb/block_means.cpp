@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 
 #include "core/assert.hpp"
 #include "kb/detail/simd.hpp"
@@ -14,15 +16,24 @@ BlockMeans::BlockMeans(std::size_t width, std::size_t channels, std::size_t bloc
 }
 
 STEPSTONE_KB_CLONES double BlockMeans::point(const float* segment, double* out) const {
-    // the largest magnitude, taken in float (exact) over eight lanes
+    // the largest magnitude over eight lanes, as the bits of |value|: for
+    // finite floats (and infinity) they order as the values do, and an
+    // integer maximum vectorises where a float one (NaN rules) does not
     const std::size_t n = width_ * channels_;
-    float lanes[8] = {};
+    std::uint32_t lanes[8] = {};
+    const auto magnitude = [](float v) {
+        std::uint32_t bits;
+        std::memcpy(&bits, &v, sizeof(bits));
+        return bits & 0x7fffffffu;
+    };
     std::size_t k = 0;
     for (; k + 8 <= n; k += 8)
-        for (std::size_t j = 0; j < 8; ++j) lanes[j] = std::max(lanes[j], std::fabs(segment[k + j]));
-    float largest = 0.0f;
-    for (; k < n; ++k) largest = std::max(largest, std::fabs(segment[k]));
-    for (const float lane : lanes) largest = std::max(largest, lane);
+        for (std::size_t j = 0; j < 8; ++j) lanes[j] = std::max(lanes[j], magnitude(segment[k + j]));
+    std::uint32_t top = 0;
+    for (; k < n; ++k) top = std::max(top, magnitude(segment[k]));
+    for (const std::uint32_t lane : lanes) top = std::max(top, lane);
+    float largest;
+    std::memcpy(&largest, &top, sizeof(largest));
 
     for (std::size_t b = 0; b < blocks_; ++b) {
         const std::size_t first = b * width_ / blocks_;

@@ -27,7 +27,8 @@ public:
     std::size_t dim() const { return blocks_ * channels_; }
 
     /// Writes the point of `segment` to out[0, dim()), computed in double;
-    /// returns the largest absolute value of the segment.
+    /// returns the largest absolute value of the segment (whose values must
+    /// not be NaN; the knowledge base refuses them before they get here).
     double point(const float* segment, double* out) const;
 
 private:
