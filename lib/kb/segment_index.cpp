@@ -39,8 +39,8 @@ constexpr double kMaxCoordinate = 1e15;
 constexpr std::size_t kFilterMaxDim = 512;
 // brute force takes over when recent queries see more than this fraction of
 // the KB as candidates, and hands back below the second (hysteresis)
-constexpr double kBruteAbove = 0.3;
-constexpr double kTreeBelow = 0.15;
+constexpr double kBruteAbove = 0.1;
+constexpr double kTreeBelow = 0.05;
 constexpr double kFractionDecay = 0.98;
 
 // values covered by the single-precision prefilter of the brute-force path
