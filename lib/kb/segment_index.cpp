@@ -294,13 +294,12 @@ struct SegmentIndex::Turn {
     Best best;
     double limit = 0.0;
     std::size_t level = 0;
-    std::size_t seen = 0;
     BoundTree::Walk walk;
     std::vector<BoundTree::Found> found;  // tree candidates, filter points loading
     std::vector<std::uint32_t> close;     // past the filter, values loading
 };
 
-std::size_t SegmentIndex::tree_batch(std::span<const float> values, const float* queries, std::size_t count,
+void SegmentIndex::tree_batch(std::span<const float> values, const float* queries, std::size_t count,
                                      double radius, std::span<std::optional<Neighbour>> out) const {
     // a walk through the trees is a chain of dependent loads (a node's
     // children are known once it is read); several queries take turns, one
@@ -314,14 +313,13 @@ std::size_t SegmentIndex::tree_batch(std::span<const float> values, const float*
     const double radius_sq = radius * radius;
     constexpr std::size_t kTurns = 4;
     std::vector<std::unique_ptr<Turn>> turns;
-    std::size_t next = 0, total_seen = 0;
+    std::size_t next = 0;
     const auto begin_query = [&](Turn& t) {
         t.query = next++;
         prepare(queries + t.query * n_dim, t.q);
         t.best = Best{};
         t.limit = t.q.key_limit(radius_sq);
         t.level = 0;
-        t.seen = 0;
         t.walk.start(levels_[0]->tree, t.q.point_f.data(), t.limit);
     };
     for (std::size_t i = 0; i < std::min(kTurns, count); ++i) {
@@ -340,7 +338,6 @@ std::size_t SegmentIndex::tree_batch(std::span<const float> values, const float*
             } else if (!t.found.empty()) {
                 for (const BoundTree::Found& f : t.found) {
                     if (static_cast<double>(f.gap) > t.limit) continue;
-                    ++t.seen;
                     if (!passes_filter(t.q, f.id, t.limit)) continue;
                     t.close.push_back(f.id);
                     prefetch(values.data() + std::size_t{f.id} * n_dim, n_dim * sizeof(float));
@@ -355,11 +352,9 @@ std::size_t SegmentIndex::tree_batch(std::span<const float> values, const float*
                 t.walk.start(levels_[++t.level]->tree, t.q.point_f.data(), t.limit);
             } else {
                 scan_buffer(t.q, t.limit, [&](std::size_t id) {
-                    ++t.seen;
                     if (passes_filter(t.q, id, t.limit)) check(values, query, t.q, radius_sq, id, t.best, t.limit);
                 });
                 out[t.query] = t.best.found ? std::optional<Neighbour>(t.best.n) : std::nullopt;
-                total_seen += t.seen;
                 if (next < count) {
                     begin_query(t);
                 } else {
@@ -369,7 +364,6 @@ std::size_t SegmentIndex::tree_batch(std::span<const float> values, const float*
             }
         }
     }
-    return total_seen;
 }
 
 std::optional<Neighbour> SegmentIndex::search_within(std::span<const float> values, const float* query,

@@ -144,8 +144,8 @@ private:
                Best& best, double& limit) const;
     template <class Visit>
     void scan_buffer(const Search& q, const double& limit, Visit&& visit) const;
-    std::size_t tree_batch(std::span<const float> values, const float* queries, std::size_t count, double radius,
-                           std::span<std::optional<Neighbour>> out) const;
+    void tree_batch(std::span<const float> values, const float* queries, std::size_t count, double radius,
+                    std::span<std::optional<Neighbour>> out) const;
     void add_point(const float* segment);
     void grow_levels();
     void rebuild_level_from(std::size_t first_level);
