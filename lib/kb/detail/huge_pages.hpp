@@ -7,8 +7,8 @@
 // nearly every such read also misses the TLB, and the page walk costs as much
 // as the read. Arrays of 2 MiB or more are therefore aligned to 2 MiB and
 // marked MADV_HUGEPAGE, which Linux honours when transparent huge pages are
-// enabled ("always" or "madvise" in /sys/kernel/mm/transparent_hugepage/enabled;
-// Debian's default is "madvise"). Elsewhere, or when the kernel declines, the
+// enabled ("always" or "madvise" in /sys/kernel/mm/transparent_hugepage/enabled).
+// Elsewhere, or when the kernel declines, the
 // array simply stays on normal pages.
 
 #include <cstddef>
