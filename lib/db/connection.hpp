@@ -84,6 +84,11 @@ public:
     Statement& bind(int index, const char* value) { return bind(index, std::string_view(value)); }
     Statement& bind_blob(int index, std::span<const std::byte> value);
     Statement& bind_null(int index);
+    /// Binds the value, or NULL when `value` is empty.
+    template <class T>
+    Statement& bind(int index, const std::optional<T>& value) {
+        return value ? bind(index, *value) : bind_null(index);
+    }
     /// Index of a named parameter (":name"); throws if the statement has none.
     int parameter(std::string_view name) const;
     int parameter_count() const;

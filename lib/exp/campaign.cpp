@@ -129,24 +129,13 @@ std::optional<RunFileState> read_run_file(const fs::path& path) {
 void update_run_row(db::Connection& connection, const RunState& state, const std::optional<std::string>& digest,
                     double wall_time, const std::optional<std::string>& error) {
     auto update = connection.prepare(db::sql("campaign/update_run.sql"));
-    update.bind(1, state.status).bind(2, state.generations_done);
-    if (state.best_reward) {
-        update.bind(3, *state.best_reward);
-    } else {
-        update.bind_null(3);
-    }
-    if (digest) {
-        update.bind(4, *digest);
-    } else {
-        update.bind_null(4);
-    }
-    update.bind(5, wall_time);
-    if (error) {
-        update.bind(6, *error);
-    } else {
-        update.bind_null(6);
-    }
-    update.bind(7, state.id);
+    update.bind(1, state.status)
+        .bind(2, state.generations_done)
+        .bind(3, state.best_reward)
+        .bind(4, digest)
+        .bind(5, wall_time)
+        .bind(6, error)
+        .bind(7, state.id);
     update.step();
 }
 

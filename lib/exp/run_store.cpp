@@ -1,6 +1,5 @@
 #include "exp/run_store.hpp"
 
-
 #include "core/error.hpp"
 #include "core/progress.hpp"
 #include "core/text.hpp"
@@ -10,14 +9,6 @@
 namespace stepstone::exp {
 
 namespace {
-
-void bind_optional(db::Statement& statement, int index, const std::optional<double>& value) {
-    if (value) {
-        statement.bind(index, *value);
-    } else {
-        statement.bind_null(index);
-    }
-}
 
 void bind_progress(db::Statement& update, const RunRecord& run) {
     update.bind(update.parameter(":generations_done"), run.generations_done)
@@ -79,14 +70,14 @@ void write_generation(db::Connection& connection, RunRecord& run, const Generati
     for (const auto& row : write.individuals) {
         individual.reset();
         individual.bind(p_run, run.id).bind(p_id, row.id).bind(p_gen, row.generation);
-        if (row.parent_id) {
-            individual.bind(p_parent, *row.parent_id);
-        } else {
-            individual.bind_null(p_parent);
-        }
-        individual.bind(p_reward, row.reward).bind(p_fitness, row.fitness).bind(p_diversity, row.diversity);
-        bind_optional(individual, p_shaping, row.shaping);
-        individual.bind(p_balls, row.balls).bind(p_steps, static_cast<std::int64_t>(row.steps)).run();
+        individual.bind(p_parent, row.parent_id)
+            .bind(p_reward, row.reward)
+            .bind(p_fitness, row.fitness)
+            .bind(p_diversity, row.diversity)
+            .bind(p_shaping, row.shaping)
+            .bind(p_balls, row.balls)
+            .bind(p_steps, static_cast<std::int64_t>(row.steps))
+            .run();
     }
 
     // genomes kept for replay
