@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "core/assert.hpp"
+#include "kb/detail/prefetch.hpp"
 
 namespace stepstone::kb {
 
@@ -88,18 +89,14 @@ struct View {
 using Pending = BoundTree::Walk::Pending;
 static_assert(BoundTree::Walk::kStack >= 64 * BoundTree::kFanout);
 
-void prefetch(const void* data, std::size_t bytes) {
-    for (std::size_t line = 0; line < bytes; line += 64) __builtin_prefetch(static_cast<const char*>(data) + line);
-}
-
 // starts loading what visiting `node` reads (of a leaf, the first
 // dims x 8 floats: loading a whole leaf of 16 points measured slower; the
 // hardware streams the rest)
 [[gnu::always_inline]] inline void prefetch_node(const View& t, std::uint32_t node) {
     if (node & BoundTree::kLeafBit) {
-        prefetch(t.coords + t.leaves[node & ~BoundTree::kLeafBit].block, t.dims * kLanes * sizeof(float));
+        detail::prefetch(t.coords + t.leaves[node & ~BoundTree::kLeafBit].block, t.dims * kLanes * sizeof(float));
     } else {
-        prefetch(t.child_boxes + std::size_t{node} * 2 * t.dims * kLanes, 2 * t.dims * kLanes * sizeof(float));
+        detail::prefetch(t.child_boxes + std::size_t{node} * 2 * t.dims * kLanes, 2 * t.dims * kLanes * sizeof(float));
     }
 }
 
@@ -140,33 +137,21 @@ template <class Report>
     const std::size_t count = leaf.count, width = padded(count);
     const float* block = t.coords + leaf.block;
     // the points within the limit (rounded up to float: a superset) as bits,
-    // padding points excluded; a leaf of 9 to 16 points (the usual one)
-    // takes both its groups of 8 at once
-    const float limit_f = float_at_least(limit);
-    if (width == 2 * kLanes) {
+    // 16 at a time, so that a leaf of 9 to 16 points (the usual one) is one
+    // mask; padding points excluded
+    const Lanes lim = Lanes{} + float_at_least(limit);
+    for (std::size_t i0 = 0; i0 < count; i0 += 2 * kLanes) {
         float gaps[2 * kLanes];
-        leaf_gaps(t, block, width, 0, query_f, gaps);
-        leaf_gaps(t, block, width, kLanes, query_f, gaps + kLanes);
-        Lanes low, high;
-        std::memcpy(&low, gaps, sizeof(low));
-        std::memcpy(&high, gaps + kLanes, sizeof(high));
-        const Lanes lim = Lanes{} + limit_f;
-        unsigned bits = (lane_bits(low <= lim) | lane_bits(high <= lim) << kLanes) & ((1u << count) - 1u);
-        while (bits != 0) {
-            const auto i = static_cast<std::size_t>(__builtin_ctz(bits));
-            bits &= bits - 1;
-            if (static_cast<double>(gaps[i]) <= limit) limit = report(t.ids[leaf.first + i], gaps[i]);
-        }
-        return limit;
-    }
-    for (std::size_t i0 = 0; i0 < count; i0 += kLanes) {
-        float gaps[kLanes];
-        leaf_gaps(t, block, width, i0, query_f, gaps);
         Lanes g;
+        leaf_gaps(t, block, width, i0, query_f, gaps);
         std::memcpy(&g, gaps, sizeof(g));
-        unsigned bits = lane_bits(g <= (Lanes{} + limit_f));
-        const std::size_t n = std::min(kLanes, count - i0);
-        bits &= (1u << n) - 1u;
+        unsigned bits = lane_bits(g <= lim);
+        if (i0 + kLanes < count) {
+            leaf_gaps(t, block, width, i0 + kLanes, query_f, gaps + kLanes);
+            std::memcpy(&g, gaps + kLanes, sizeof(g));
+            bits |= lane_bits(g <= lim) << kLanes;
+        }
+        bits &= (1u << std::min(2 * kLanes, count - i0)) - 1u;
         while (bits != 0) {
             const auto i = static_cast<std::size_t>(__builtin_ctz(bits));
             bits &= bits - 1;

@@ -88,7 +88,6 @@ public:
         static constexpr std::size_t kStack = 64 * 8;
 
     private:
-
         const BoundTree* tree_ = nullptr;
         const float* query_f_ = nullptr;
         std::size_t top_ = 0;
@@ -117,8 +116,8 @@ public:
     };
 
 private:
-    // binary KD-tree built first (median split of the widest axis), then
-    // collapsed into nodes of up to kFanout children
+    // binary KD-tree built first (split of the axis of largest variance, see
+    // build()), then collapsed into nodes of up to kFanout children
     struct Binary {
         std::uint32_t first = 0;   // leaf: point range in leaf order; inner: children
         std::uint32_t second = 0;

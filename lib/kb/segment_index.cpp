@@ -10,6 +10,7 @@
 #include "core/text.hpp"
 #include "kb/block_means.hpp"
 #include "kb/bound_tree.hpp"
+#include "kb/detail/prefetch.hpp"
 #include "kb/distance.hpp"
 #include "kb/projection.hpp"
 
@@ -65,10 +66,6 @@ float prefix_gap(const float* a, const float* b) {
 // true if the prefix sum proves the computed double distance exceeds bound
 bool prefix_exceeds(float prefix, double bound) {
     return static_cast<double>(prefix) > bound * (1.0 + 1e-5) + 1e-30;
-}
-
-void prefetch(const void* data, std::size_t bytes) {
-    for (std::size_t line = 0; line < bytes; line += 64) __builtin_prefetch(static_cast<const char*>(data) + line);
 }
 
 }  // namespace
@@ -228,7 +225,8 @@ void SegmentIndex::assign(std::span<const float> values) {
     for (std::size_t i = 0; i < count; ++i) add_point(values.data() + i * dim());
     choose_projection();
     if (count > 0) {
-        levels_.push_back(std::make_unique<Level>(Level{BoundTree(tree_points_.data(), tree_stride(), projection_->out_dim(), 0, count, kLeafSize)}));
+        levels_.push_back(std::make_unique<Level>(
+            Level{BoundTree(tree_points_.data(), tree_stride(), projection_->out_dim(), 0, count, kLeafSize)}));
         ++stats_.rebuilds;
         stats_.rebuilt_points += count;
     }
@@ -246,7 +244,8 @@ void SegmentIndex::grow_levels() {
     }
     // a rebuild of everything may first fit the projection to the data
     if (begin == 0 && size_ >= kMinPrincipal && size_ >= 2 * principal_size_) choose_projection();
-    levels_.push_back(std::make_unique<Level>(Level{BoundTree(tree_points_.data(), tree_stride(), projection_->out_dim(), begin, size_, kLeafSize)}));
+    levels_.push_back(std::make_unique<Level>(
+        Level{BoundTree(tree_points_.data(), tree_stride(), projection_->out_dim(), begin, size_, kLeafSize)}));
     ++stats_.rebuilds;
     stats_.rebuilt_points += size_ - begin;
 }
@@ -276,6 +275,7 @@ void SegmentIndex::check(std::span<const float> values, const float* query, cons
     }
 }
 
+// `limit` is read afresh for each segment: `visit` may shrink it
 template <class Visit>
 void SegmentIndex::scan_buffer(const Search& q, const double& limit, Visit&& visit) const {
     const std::size_t stride = tree_stride();
@@ -300,7 +300,7 @@ struct SegmentIndex::Turn {
 };
 
 void SegmentIndex::tree_batch(std::span<const float> values, const float* queries, std::size_t count,
-                                     double radius, std::span<std::optional<Neighbour>> out) const {
+                              double radius, std::span<std::optional<Neighbour>> out) const {
     // a walk through the trees is a chain of dependent loads (a node's
     // children are known once it is read); several queries take turns, one
     // step each, and every step prefetches what its walk's next step reads,
@@ -340,14 +340,14 @@ void SegmentIndex::tree_batch(std::span<const float> values, const float* querie
                     if (static_cast<double>(f.gap) > t.limit) continue;
                     if (!passes_filter(t.q, f.id, t.limit)) continue;
                     t.close.push_back(f.id);
-                    prefetch(values.data() + std::size_t{f.id} * n_dim, n_dim * sizeof(float));
+                    detail::prefetch(values.data() + std::size_t{f.id} * n_dim, n_dim * sizeof(float));
                 }
                 t.found.clear();
             } else if (!t.walk.done()) {
                 t.walk.step(t.limit, t.found);
                 if (!t.q.filter_point.empty())
                     for (const BoundTree::Found& f : t.found)
-                        prefetch(filter_points_.data() + std::size_t{f.id} * f_dim, f_dim * sizeof(float));
+                        detail::prefetch(filter_points_.data() + std::size_t{f.id} * f_dim, f_dim * sizeof(float));
             } else if (t.level + 1 < levels_.size()) {
                 t.walk.start(levels_[++t.level]->tree, t.q.point_f.data(), t.limit);
             } else {

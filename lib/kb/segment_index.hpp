@@ -148,7 +148,6 @@ private:
                     std::span<std::optional<Neighbour>> out) const;
     void add_point(const float* segment);
     void grow_levels();
-    void rebuild_level_from(std::size_t first_level);
     void brute_batch(std::span<const float> values, const float* queries, std::size_t count, double radius,
                      std::span<std::optional<Neighbour>> out) const;
     std::size_t count_candidates(const float* query, double radius) const;
