@@ -456,7 +456,7 @@ CampaignConfig CampaignConfig::from_json(const nlohmann::json& json, const std::
         target.finish();
         root.finish();
 
-        const bool kb_needed = std::any_of(config.treatments.begin(), config.treatments.end(), needs_kb);
+        const bool kb_needed = config.needs_kb();
         if (kb_needed && config.kb_from != KbFrom::file) {
             if (!config.source) {
                 throw ConfigError("a campaign without a source step needs kb.file (the KB the treatments use)");
@@ -493,6 +493,8 @@ nlohmann::json CampaignConfig::to_json() const {
     json["target"]["treatments"] = names;
     return json;
 }
+
+bool CampaignConfig::needs_kb() const { return std::any_of(treatments.begin(), treatments.end(), exp::needs_kb); }
 
 bool CampaignConfig::needs_randomized_kb() const {
     return std::any_of(treatments.begin(), treatments.end(), exp::needs_randomized_kb);
@@ -679,8 +681,7 @@ CampaignSummary run_campaign(const CampaignOptions& given) {
     for (std::size_t k = 0; k < runs.size(); ++k) (runs[k].run.step == "source" ? sources : targets).push_back(k);
     summary.failures = runner.execute(sources, summary);
     if (summary.failures.empty()) {
-        const bool kb_needed = std::any_of(config.treatments.begin(), config.treatments.end(), needs_kb);
-        if (kb_needed) make_kbs(options, config, connection, runs);
+        if (config.needs_kb()) make_kbs(options, config, connection, runs);
         summary.failures = runner.execute(targets, summary);
     }
     for (const auto& state : runs) summary.finished += state.status == "finished" ? 1 : 0;

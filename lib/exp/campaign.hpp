@@ -57,6 +57,8 @@ struct CampaignConfig {
     static CampaignConfig load(const std::filesystem::path& path);
     /// The effective config (step configs inline), as stored in campaign.db.
     nlohmann::json to_json() const;
+    /// True when a treatment needs a KB (any but none).
+    bool needs_kb() const;
     /// True when a treatment needs the randomized KB.
     bool needs_randomized_kb() const;
 };
