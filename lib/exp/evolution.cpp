@@ -158,7 +158,6 @@ void Evolution::attach_shaping(kb::KnowledgeBase kb, Treatment treatment) {
 
 std::vector<Evaluation> Evolution::evaluate(const std::vector<nn::Genome>& genomes) {
     kb_previous_size_.reset();
-    time_kb_ = 0;
     const bool observe = kb_ && generation_ % config_.kb->period == 0;
     const bool shape = shaping_kb_.has_value();
     const double started = now_seconds();
