@@ -316,6 +316,8 @@ void SegmentIndex::tree_batch(std::span<const float> values, const float* querie
     std::size_t next = 0;
     const auto begin_query = [&](Turn& t) {
         t.query = next++;
+        // the query that starts next is read in full then: start loading it
+        if (next < count) detail::prefetch(queries + next * n_dim, n_dim * sizeof(float));
         prepare(queries + t.query * n_dim, t.q);
         t.best = Best{};
         t.limit = t.q.key_limit(radius_sq);
