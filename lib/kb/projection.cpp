@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <numeric>
 #include <utility>
 
@@ -33,19 +34,55 @@ void orthonormalise(std::vector<double>& rows, std::size_t count, std::size_t n)
     }
 }
 
-// out[r] = row r . in, with four partial sums so that it vectorises (inlined
-// into each build of apply())
-template <class T>
-[[gnu::always_inline]] inline void project(const double* rows, std::size_t in_dim, std::size_t out_dim, const T* in, double* out) {
-    for (std::size_t r = 0; r < out_dim; ++r) {
-        const double* row = rows + r * in_dim;
-        double s[4] = {};
-        std::size_t k = 0;
-        for (; k + 4 <= in_dim; k += 4)
-            for (std::size_t j = 0; j < 4; ++j) s[j] += row[k + j] * static_cast<double>(in[k + j]);
-        for (std::size_t j = 0; k < in_dim; ++k, ++j) s[j] += row[k] * static_cast<double>(in[k]);
-        out[r] = (s[0] + s[1]) + (s[2] + s[3]);
+// four doubles (GCC and Clang vector extension)
+typedef double Quad __attribute__((vector_size(4 * sizeof(double))));
+
+// outputs [4 q0, 4 (q0 + Q)) of the projection of `in`: output r is the dot
+// product of row r and `in` as four partial sums, sum j over the terms
+// k = j (mod 4) in increasing k, then (s0 + s1) + (s2 + s3). `columns` holds
+// the rows transposed (in_dim rows of `stride` doubles, zero past the last
+// output), so that four outputs are one vector; the Q x 4 partial sums stay
+// in registers for Q <= 3
+template <std::size_t Q, class T>
+[[gnu::always_inline]] inline void project_quads(const double* columns, std::size_t stride, std::size_t in_dim,
+                                                 std::size_t q0, const T* in, double* out, std::size_t out_dim) {
+    Quad s[4][Q] = {};
+    const double* col = columns + q0 * 4;
+    std::size_t k = 0;
+    for (; k + 4 <= in_dim; k += 4)
+        for (std::size_t j = 0; j < 4; ++j) {
+            const double x = static_cast<double>(in[k + j]);
+            for (std::size_t q = 0; q < Q; ++q) {
+                Quad c;
+                std::memcpy(&c, col + (k + j) * stride + 4 * q, sizeof(c));
+                s[j][q] += c * x;
+            }
+        }
+    for (std::size_t j = 0; k < in_dim; ++k, ++j) {
+        const double x = static_cast<double>(in[k]);
+        for (std::size_t q = 0; q < Q; ++q) {
+            Quad c;
+            std::memcpy(&c, col + k * stride + 4 * q, sizeof(c));
+            s[j][q] += c * x;
+        }
     }
+    for (std::size_t q = 0; q < Q; ++q) {
+        const Quad sum = (s[0][q] + s[1][q]) + (s[2][q] + s[3][q]);
+        for (std::size_t i = 0; i < 4 && 4 * (q0 + q) + i < out_dim; ++i) out[4 * (q0 + q) + i] = sum[i];
+    }
+}
+
+// out[r] = row r . in for every output, three vectors of outputs at a time
+// (inlined into each build of apply())
+template <class T>
+[[gnu::always_inline]] inline void project(const double* columns, std::size_t in_dim, std::size_t out_dim, const T* in,
+                                           double* out) {
+    const std::size_t quads = (out_dim + 3) / 4;
+    const std::size_t stride = 4 * quads;
+    std::size_t q0 = 0;
+    for (; q0 + 3 <= quads; q0 += 3) project_quads<3>(columns, stride, in_dim, q0, in, out, out_dim);
+    if (quads - q0 == 2) project_quads<2>(columns, stride, in_dim, q0, in, out, out_dim);
+    if (quads - q0 == 1) project_quads<1>(columns, stride, in_dim, q0, in, out, out_dim);
 }
 
 }  // namespace
@@ -97,9 +134,21 @@ Projection Projection::principal(const float* points, std::size_t count, std::si
     return p;
 }
 
-STEPSTONE_KB_CLONES void Projection::apply(const double* in, double* out) const { project(rows_.data(), in_, out_, in, out); }
+STEPSTONE_KB_CLONES void Projection::apply(const double* in, double* out) const {
+    project(columns_.data(), in_, out_, in, out);
+}
 
-STEPSTONE_KB_CLONES void Projection::apply(const float* in, double* out) const { project(rows_.data(), in_, out_, in, out); }
+STEPSTONE_KB_CLONES void Projection::apply(const float* in, double* out) const {
+    project(columns_.data(), in_, out_, in, out);
+}
+
+Projection::Projection(std::size_t in, std::size_t out, std::vector<double> rows)
+    : in_(in), out_(out), rows_(std::move(rows)) {
+    const std::size_t stride = (out_ + 3) / 4 * 4;
+    columns_.assign(in_ * stride, 0.0);
+    for (std::size_t r = 0; r < out_; ++r)
+        for (std::size_t k = 0; k < in_; ++k) columns_[k * stride + r] = rows_[r * in_ + k];
+}
 
 double Projection::orthonormality_error() const {
     double worst = 0.0;

@@ -17,8 +17,9 @@ public:
     /// sqrt(rows_b / width) x in[b * channels + c].
     static Projection channel_means(std::size_t width, std::size_t channels, std::size_t blocks);
     /// The `out` leading principal directions of `count` points of `in` floats
-    /// (a deterministic sample of at most 4096 of them), from a cyclic Jacobi
-    /// eigen-decomposition of their covariance; out <= in, count >= 2.
+    /// (a deterministic sample of at most 4096 of them), from Eigen's
+    /// self-adjoint eigen-decomposition of their covariance; out <= in,
+    /// count >= 2.
     /// Returns channel_means-like fallback `fallback` when the directions are not
     /// orthonormal to 1e-12 after re-orthonormalisation.
     static Projection principal(const float* points, std::size_t count, std::size_t in, std::size_t out,
@@ -34,11 +35,12 @@ public:
     double orthonormality_error() const;
 
 private:
-    Projection(std::size_t in, std::size_t out, std::vector<double> rows) : in_(in), out_(out), rows_(std::move(rows)) {}
+    Projection(std::size_t in, std::size_t out, std::vector<double> rows);
 
     std::size_t in_ = 0;
     std::size_t out_ = 0;
-    std::vector<double> rows_;  // out_ rows of in_ values
+    std::vector<double> rows_;     // out_ rows of in_ values
+    std::vector<double> columns_;  // the same transposed: in_ rows of out_ values padded to a multiple of 4
 };
 
 }  // namespace stepstone::kb

@@ -173,6 +173,58 @@ TEST_CASE("a projection keeps a lower bound: orthonormal rows never lengthen a d
     for (std::size_t c = 0; c < channels; ++c) CHECK(projected[c] == Approx(direct[c]).epsilon(1e-12));
 }
 
+TEST_CASE("block means and projections add their terms in the documented order, bit for bit", "[kb][index][bound]") {
+    // the bounds' padding assumes these sums: a block's values added row by
+    // row to 0.0 then scaled by 1 / sqrt(rows); a projected coordinate as
+    // four partial sums over k = j (mod 4), then (s0 + s1) + (s2 + s3). The
+    // kernels vectorise them differently (by channels, by outputs), so any
+    // reordering shows here as different bits
+    Rng rng(21, 0, 0, Purpose::test);
+    for (const std::size_t channels : {1, 2, 3, 4, 5, 7, 15, 16}) {
+        for (const std::size_t width : {1, 4, 20, 23}) {
+            const kb::BlockMeans means(width, channels, 5);
+            const std::vector<float> segment = behaviour_segments(rng, 1, width, channels);
+            std::vector<double> got(means.dim());
+            means.point(segment.data(), got.data());
+            for (std::size_t b = 0; b < means.blocks(); ++b) {
+                const std::size_t first = b * width / means.blocks(), end = (b + 1) * width / means.blocks();
+                for (std::size_t c = 0; c < channels; ++c) {
+                    double sum = 0.0;
+                    for (std::size_t t = first; t < end; ++t) sum += static_cast<double>(segment[t * channels + c]);
+                    const double expected = sum * (1.0 / std::sqrt(static_cast<double>(end - first)));
+                    REQUIRE(got[b * channels + c] == expected);
+                }
+            }
+        }
+    }
+    const std::size_t in = 75;
+    std::vector<float> points(300 * in);
+    for (float& v : points) v = static_cast<float>(rng.uniform(-3.0, 3.0));
+    const kb::Projection fallback = kb::Projection::channel_means(20, 15, 5);
+    for (const std::size_t out : {1, 4, 5, 9, 12, 15, 20, 29}) {
+        const kb::Projection proj = kb::Projection::principal(points.data(), 300, in, out, fallback);
+        REQUIRE(proj.out_dim() == out);
+        // the rows, read back through unit vectors (a single term is exact)
+        std::vector<double> rows(out * in), unit(in, 0.0), column(out);
+        for (std::size_t k = 0; k < in; ++k) {
+            unit[k] = 1.0;
+            proj.apply(unit.data(), column.data());
+            unit[k] = 0.0;
+            for (std::size_t r = 0; r < out; ++r) rows[r * in + k] = column[r];
+        }
+        std::vector<double> got(out);
+        for (std::size_t i = 0; i < 20; ++i) {
+            const float* x = points.data() + i * in;
+            proj.apply(x, got.data());
+            for (std::size_t r = 0; r < out; ++r) {
+                double s[4] = {};
+                for (std::size_t k = 0; k < in; ++k) s[k % 4] += rows[r * in + k] * static_cast<double>(x[k]);
+                REQUIRE(got[r] == (s[0] + s[1]) + (s[2] + s[3]));
+            }
+        }
+    }
+}
+
 TEST_CASE("the index equals a linear scan on behaviour-like data, bulk-built and grown", "[kb][index]") {
     // past the size where the projection is fitted to the data, with near
     // duplicates, binary channels and queries both near and far from the KB
