@@ -33,6 +33,19 @@ float float_at_least(double x) {
     return f;
 }
 
+// the largest float <= x (x >= 0)
+float float_at_most(double x) {
+    float f = static_cast<float>(x);
+    if (static_cast<double>(f) > x) {
+        // the next float down (f > x >= 0; an infinite f becomes the largest)
+        std::uint32_t bits;
+        std::memcpy(&bits, &f, sizeof(bits));
+        --bits;
+        std::memcpy(&f, &bits, sizeof(f));
+    }
+    return f;
+}
+
 // bit j set when lane j of a comparison holds (lanes are all ones or all
 // zeros); on x86 the sign bits of each half, one movmskps each (SSE is part
 // of x86-64, so both builds have it), instead of eight lane extractions
@@ -117,30 +130,51 @@ static_assert(BoundTree::Walk::kStack >= 64 * BoundTree::kFanout);
 }
 
 // pushes the children of wide node `node` whose box gap is within the limit,
-// farthest first (insertion into the stack's top keeps them ordered)
+// farthest first, so that the nearest is taken next. Without branches on the
+// gaps (which children pass, and their order, are different at every node
+// and a branch on them is mispredicted about as often as not): each child's
+// rank among the passing ones comes from comparisons of all eight keys at
+// once, every lane is stored at its rank (a lane that does not pass lands
+// past the new top, where it is overwritten later) and the top moves by the
+// number that pass. The key of a lane is its gap's bits (non-negative floats
+// order as their bits do) with the lowest three replaced by the lane index,
+// so keys are distinct; the order may differ from the gaps' for gaps within
+// 2^-20 of each other, which only changes the order of the visit.
 [[gnu::always_inline]] inline void expand(const View& t, std::uint32_t node, const float* query_f, double limit,
                                           Pending* stack, std::size_t& top) {
     const BoundTree::Wide& w = t.wides[node];
     float gaps[kLanes];
     child_gaps(t, node, query_f, gaps);
-    // the children within the limit (rounded up to float: a superset) as
-    // bits; unused lanes hold an infinite gap
     Lanes g;
     std::memcpy(&g, gaps, sizeof(g));
-    unsigned bits = lane_bits(g <= float_at_least(limit) - Lanes{});
-    const std::size_t base = top;
+    // a float gap is <= limit exactly when it is <= the largest float <= limit
+    const Flags lane = {0, 1, 2, 3, 4, 5, 6, 7};
+    const Flags pass = (g <= float_at_most(limit) - Lanes{}) & (lane < static_cast<std::int32_t>(w.count));
+    Flags keys;
+    std::memcpy(&keys, &g, sizeof(keys));
+    keys = (keys & ~7) | lane;
+    keys = pass ? keys : Flags{} - 1;
+    // rank: the number of lanes with a greater key (comparisons give -1)
+    Flags rank = {};
+    rank -= __builtin_shufflevector(keys, keys, 1, 2, 3, 4, 5, 6, 7, 0) > keys;
+    rank -= __builtin_shufflevector(keys, keys, 2, 3, 4, 5, 6, 7, 0, 1) > keys;
+    rank -= __builtin_shufflevector(keys, keys, 3, 4, 5, 6, 7, 0, 1, 2) > keys;
+    rank -= __builtin_shufflevector(keys, keys, 4, 5, 6, 7, 0, 1, 2, 3) > keys;
+    rank -= __builtin_shufflevector(keys, keys, 5, 6, 7, 0, 1, 2, 3, 4) > keys;
+    rank -= __builtin_shufflevector(keys, keys, 6, 7, 0, 1, 2, 3, 4, 5) > keys;
+    rank -= __builtin_shufflevector(keys, keys, 7, 0, 1, 2, 3, 4, 5, 6) > keys;
+    std::int32_t at[kLanes];
+    std::memcpy(at, &rank, sizeof(at));
+    Pending* base = stack + top;
+    for (std::size_t c = 0; c < kLanes; ++c) base[at[c]] = {w.child[c], gaps[c]};
+    unsigned bits = lane_bits(pass);
+    top += static_cast<std::size_t>(__builtin_popcount(bits));
+    // a leaf is read in full as soon as it is taken: start loading it
+    bits &= w.leaves;
     while (bits != 0) {
         const auto c = static_cast<std::size_t>(__builtin_ctz(bits));
         bits &= bits - 1;
-        if (static_cast<double>(gaps[c]) > limit) continue;
-        std::size_t k = top++;
-        while (k > base && stack[k - 1].gap < gaps[c]) {
-            stack[k] = stack[k - 1];
-            --k;
-        }
-        stack[k] = {w.child[c], gaps[c]};
-        // a leaf is read in full as soon as it is taken: start loading it
-        if (w.child[c] & BoundTree::kLeafBit) prefetch_node(t, w.child[c]);
+        prefetch_node(t, w.child[c]);
     }
 }
 
@@ -388,6 +422,7 @@ std::uint32_t BoundTree::collapse(std::uint32_t node, const std::vector<Binary>&
     for (std::size_t c = 0; c < frontier.size(); ++c) {
         const std::uint32_t child = collapse(frontier[c], binary, boxes, order, points);
         wides_[index].child[c] = child;
+        if (child & kLeafBit) wides_[index].leaves |= 1u << c;
     }
     return index;
 }

@@ -84,7 +84,8 @@ public:
             float gap;
         };
         /// Each wide node on the path leaves at most kFanout - 1 pending
-        /// children; trees are far shallower than 64 wide levels.
+        /// children, and an expansion writes kFanout entries past the top;
+        /// trees are far shallower than 63 wide levels.
         static constexpr std::size_t kStack = 64 * 8;
 
     private:
@@ -108,6 +109,7 @@ public:
     struct Wide {
         std::uint32_t child[kFanout] = {};
         std::uint32_t count = 0;
+        std::uint32_t leaves = 0;  // bit c set when child c is a leaf
     };
     struct Leaf {
         std::uint32_t first = 0;   // point range in leaf order
