@@ -167,15 +167,10 @@ static_assert(BoundTree::Walk::kStack >= 64 * BoundTree::kFanout);
     std::memcpy(at, &rank, sizeof(at));
     Pending* base = stack + top;
     for (std::size_t c = 0; c < kLanes; ++c) base[at[c]] = {w.child[c], gaps[c]};
-    unsigned bits = lane_bits(pass);
+    const unsigned bits = lane_bits(pass);
     top += static_cast<std::size_t>(__builtin_popcount(bits));
     // a leaf is read in full as soon as it is taken: start loading it
-    bits &= w.leaves;
-    while (bits != 0) {
-        const auto c = static_cast<std::size_t>(__builtin_ctz(bits));
-        bits &= bits - 1;
-        prefetch_node(t, w.child[c]);
-    }
+    if ((bits & w.leaves) != 0 && (stack[top - 1].node & BoundTree::kLeafBit)) prefetch_node(t, stack[top - 1].node);
 }
 
 // calls report(id, gap) for the points of leaf `node` whose gap is within
