@@ -27,8 +27,8 @@ public:
     std::size_t dim() const { return blocks_ * channels_; }
 
     /// Writes the point of `segment` to out[0, dim()), computed in double;
-    /// returns the largest absolute value of the segment (whose values must
-    /// not be NaN; the knowledge base refuses them before they get here).
+    /// returns the largest absolute value of the segment: NaN if a value is
+    /// NaN, else infinity if one is infinite (the point is then meaningless).
     double point(const float* segment, double* out) const;
 
 private:

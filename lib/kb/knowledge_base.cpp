@@ -26,22 +26,6 @@ KbParams validated(KbParams params) {
     return params;
 }
 
-// index of the first non-finite value, or values.size(); v - v is 0 for a
-// finite v and NaN otherwise, so eight running sums of it stay 0 exactly when
-// every value is finite (a quick pass, then a search only on failure)
-std::size_t first_non_finite(std::span<const float> values) {
-    float lanes[8] = {};
-    std::size_t k = 0;
-    for (; k + 8 <= values.size(); k += 8)
-        for (std::size_t j = 0; j < 8; ++j) lanes[j] += values[k + j] - values[k + j];
-    bool finite = true;
-    for (const float lane : lanes) finite = finite && lane == 0.0f;
-    // all finite so far: only the tail is left to check
-    if (!finite) k = 0;
-    for (; k < values.size(); ++k)
-        if (!std::isfinite(values[k])) return k;
-    return values.size();
-}
 
 }  // namespace
 
@@ -129,7 +113,7 @@ std::uint32_t KnowledgeBase::add_source(const std::string& run) {
     return static_cast<std::uint32_t>(sources_.size() - 1);
 }
 
-void KnowledgeBase::check_segments(Segments segments) const {
+void KnowledgeBase::check_segments(Segments segments, Finite finite) const {
     if (segments.dim != params_.dim()) {
         throw DataError(concat("segments have ", segments.dim, " values, the knowledge base uses ",
                                params_.dim(), " (", params_.segment_width, " steps x ", params_.channels,
@@ -139,10 +123,7 @@ void KnowledgeBase::check_segments(Segments segments) const {
         throw DataError(concat("segments: ", segments.values.size(), " values is not a whole number of segments of ",
                                segments.dim, " values"));
     }
-    if (const std::size_t k = first_non_finite(segments.values); k < segments.values.size()) {
-        throw DataError(concat("segment ", k / segments.dim, " has a non-finite value at position ",
-                               k % segments.dim));
-    }
+    if (finite == Finite::check) require_finite(segments.values, segments.dim);
 }
 
 void KnowledgeBase::insert(const float* segment, const SegmentRecord& record) {
@@ -242,7 +223,11 @@ std::vector<SegmentMatch> KnowledgeBase::matches_of(Segments segments) const {
 }
 
 Lookup KnowledgeBase::lookup(Segments segments) const {
-    check_segments(segments);
+    // a whole policy within delta goes to the index's batch search, which
+    // refuses non-finite values itself (from the block means it computes of
+    // every query anyway) with the same message: the values are read once
+    const bool batch = params_.match == Match::within_delta && segments.size() > 1;
+    check_segments(segments, batch ? Finite::index_checks : Finite::check);
     Lookup result;
     result.segments = matches_of(segments);
     // a segment without a match contributes 0, so r_max is the largest of

@@ -171,7 +171,10 @@ public:
     const SegmentIndex& index() const { return index_; }
 
 private:
-    void check_segments(Segments segments) const;
+    // whether check_segments() scans the values for NaN and infinity, or
+    // leaves that to the index's batch search (which throws the same error)
+    enum class Finite { check, index_checks };
+    void check_segments(Segments segments, Finite finite = Finite::check) const;
     void insert(const float* segment, const SegmentRecord& record);
     SegmentMatch match_of(const float* segment) const;
     std::vector<SegmentMatch> matches_of(Segments segments) const;

@@ -13,6 +13,7 @@
 #include "kb/detail/prefetch.hpp"
 #include "kb/distance.hpp"
 #include "kb/projection.hpp"
+#include "kb/segments.hpp"
 
 namespace stepstone::kb {
 
@@ -97,6 +98,7 @@ struct SegmentIndex::Search {
     std::vector<float> point_f;       // the same in float
     std::vector<float> filter_point;  // empty when the filter is off for this query
     double max_abs = 0.0;  // largest |value| of the query and the indexed segments
+    bool finite = true;    // false when the query holds a NaN or an infinity
     double pad = 0.0;
     double slack = 0.0;    // relative slack for float sums
 
@@ -188,6 +190,7 @@ SegmentIndex::Search SegmentIndex::prepare(const float* query) const {
 void SegmentIndex::prepare(const float* query, Search& search) const {
     search.fine.resize(filter_dim());
     const double q_abs = fine_->point(query, search.fine.data());
+    search.finite = q_abs <= std::numeric_limits<double>::max();
     const double max_abs = std::max(max_abs_, q_abs);
     search.max_abs = max_abs;
     search.point.assign(tree_stride(), 0.0);
@@ -319,6 +322,9 @@ void SegmentIndex::tree_batch(std::span<const float> values, const float* querie
         // the query that starts next is read in full then: start loading it
         if (next < count) detail::prefetch(queries + next * n_dim, n_dim * sizeof(float));
         prepare(queries + t.query * n_dim, t.q);
+        // queries start in order, so the first one refused is the first
+        // with a non-finite value
+        if (!t.q.finite) require_finite(std::span<const float>(queries + t.query * n_dim, n_dim), n_dim, t.query);
         t.best = Best{};
         t.limit = t.q.key_limit(radius_sq);
         t.level = 0;
@@ -485,6 +491,9 @@ void SegmentIndex::brute_batch(std::span<const float> values, const float* queri
 void SegmentIndex::nearest_within_batch(std::span<const float> values, const float* queries, std::size_t count,
                                         double radius, std::span<std::optional<Neighbour>> out) const {
     STEPSTONE_ASSERT(out.size() >= count);
+    // the tree path checks each query as it starts it (prepare() computes
+    // the largest magnitude); the others check them all first
+    if (brute_force() || levels_.empty()) require_finite(std::span<const float>(queries, count * dim()), dim());
     if (brute_force()) {
         brute_batch(values, queries, count, radius, out);
     } else if (levels_.empty()) {

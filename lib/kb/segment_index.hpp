@@ -107,7 +107,10 @@ public:
     /// nearest_within() for `count` queries (query i at queries + i * dim())
     /// against the current content, written to out[0, count). On the
     /// brute-force path the scan is blocked so that each indexed segment is
-    /// read once per batch rather than once per query.
+    /// read once per batch rather than once per query. Throws DataError
+    /// naming the first query with a NaN or infinite value and its position
+    /// (as kb::require_finite), `out` then being unspecified: the queries need
+    /// not be checked beforehand.
     void nearest_within_batch(std::span<const float> values, const float* queries, std::size_t count,
                               double radius, std::span<std::optional<Neighbour>> out) const;
     /// As the const version, and lets the index learn whether pruning works.

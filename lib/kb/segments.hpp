@@ -34,6 +34,15 @@ std::size_t segment_count(std::size_t steps, std::size_t width);
 /// a multiple of channels.
 Segments segment_behaviour(std::span<const float> behaviour, std::size_t channels, std::size_t width);
 
+/// Index of the first value of `values` that is NaN or infinite, or
+/// values.size() when all are finite.
+std::size_t first_non_finite(std::span<const float> values);
+
+/// Throws DataError naming the first segment with a non-finite value and its
+/// position, e.g. "segment 3 has a non-finite value at position 17", where
+/// `values` holds segments of `dim` values numbered from `first`.
+void require_finite(std::span<const float> values, std::size_t dim, std::size_t first = 0);
+
 /// Views `values` as segments of `dim` floats.
 /// Throws DataError if dim is 0 or values.size() is not a multiple of dim.
 Segments as_segments(std::span<const float> values, std::size_t dim);

@@ -247,6 +247,45 @@ TEST_CASE("bad segments and rewards are refused and leave the KB unchanged", "[k
     CHECK(kb.sources()[0].policies == 1);
 }
 
+TEST_CASE("a lookup names the first segment with a NaN or infinity on every search path", "[kb][errors]") {
+    // the tree path leaves the check to the index (which computes each
+    // query's largest magnitude anyway); the brute-force path, the small
+    // index and the nearest rule check the values first: all must give the
+    // same message, for the first bad segment and its first bad position
+    Rng rng(31, 0, 0, Purpose::test);
+    const std::size_t dim = 60;
+    const std::vector<float> data = kbtest::clustered_segments(rng, 1500, dim, 20, 0.3);
+    std::vector<kb::SegmentRecord> records(1500, kb::SegmentRecord{1.0, 1, {}, {}});
+    const std::vector<kb::Source> sources{kb::Source{"run", 0, 0, 1}};
+    const kb::KnowledgeBase tree = kb::KnowledgeBase::from_segments(params_of(4, 15, 2.0), sources, data, records);
+    REQUIRE_FALSE(tree.index().brute_force());
+    // values so large that float bounds could overflow send the index to brute force
+    std::vector<float> large = data;
+    for (float& v : large) v *= 1e16f;
+    const kb::KnowledgeBase brute = kb::KnowledgeBase::from_segments(params_of(4, 15, 2.0), sources, large, records);
+    REQUIRE(brute.index().brute_force());
+    const std::vector<float> few(data.begin(), data.begin() + 10 * dim);
+    const kb::KnowledgeBase small = kb::KnowledgeBase::from_segments(
+        params_of(4, 15, 2.0), sources, few, std::span<const kb::SegmentRecord>(records).first(10));
+    const kb::KnowledgeBase nearest =
+        kb::KnowledgeBase::from_segments(params_of(4, 15, 2.0, kb::Match::nearest), sources, data, records);
+
+    std::vector<float> queries = kbtest::clustered_segments(rng, 200, dim, 20, 0.4);
+    REQUIRE_NOTHROW(tree.lookup(kb::Segments{queries, dim}));
+    queries[57 * dim + 13] = std::nanf("");
+    queries[57 * dim + 40] = HUGE_VALF;
+    queries[120 * dim + 2] = -HUGE_VALF;
+    for (const kb::KnowledgeBase* kb : {&tree, &brute, &small, &nearest}) {
+        REQUIRE_THROWS_AS(kb->lookup(kb::Segments{queries, dim}), DataError);
+        REQUIRE_THROWS_WITH(kb->lookup(kb::Segments{queries, dim}), "segment 57 has a non-finite value at position 13");
+        REQUIRE_THROWS_WITH(kb->r_max(kb::Segments{queries, dim}), "segment 57 has a non-finite value at position 13");
+    }
+    // an infinity alone, late in the policy, on the tree path
+    queries[57 * dim + 13] = 0.0f;
+    queries[57 * dim + 40] = 0.0f;
+    REQUIRE_THROWS_WITH(tree.lookup(kb::Segments{queries, dim}), "segment 120 has a non-finite value at position 2");
+}
+
 TEST_CASE("provenance records the first and last observation of each segment and the sources", "[kb][provenance]") {
     kb::KnowledgeBase kb(params_of(1, 1, 1.0));
     const std::uint32_t a = kb.add_source("run-a");
