@@ -1,6 +1,14 @@
 #include "core/text.hpp"
 
+#include <charconv>
+
 namespace stepstone {
+
+std::string shortest(double value) {
+    char buffer[32];
+    const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
+    return std::string(buffer, result.ptr);
+}
 
 std::string one_line(std::string text) {
     // trailing newlines vanish; inner ones become separators

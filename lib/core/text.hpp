@@ -16,6 +16,10 @@ std::string concat(Parts&&... parts) {
     return out.str();
 }
 
+/// The shortest text that reads back as `value` (1.83, not
+/// 1.8300000000000001): for the values a user typed, in messages and reports.
+std::string shortest(double value);
+
 /// Replaces newlines and carriage returns by "; " so a message stays on one line.
 std::string one_line(std::string text);
 

@@ -26,13 +26,6 @@ namespace {
 
 std::string file_name(const fs::path& path) { return path.filename().string(); }
 
-// the shortest text that reads back as `value` (0.7, not 0.69999999999999996)
-std::string number(double value) {
-    char buffer[32];
-    const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
-    return std::string(buffer, result.ptr);
-}
-
 KbWritten written(const std::string& name, const kb::KnowledgeBase& kb, std::optional<std::uint64_t> seed) {
     return {name, kb.params(), kb.size(), seed};
 }
@@ -65,7 +58,7 @@ std::optional<std::string> params_mismatch(const kb::KbParams& a, const kb::KbPa
         return concat("channels is ", b.channels, " in ", b_name, ", ", a.channels, " in ", a_name);
     }
     if (a.delta != b.delta) {
-        return concat("delta is ", number(b.delta), " in ", b_name, ", ", number(a.delta), " in ", a_name);
+        return concat("delta is ", shortest(b.delta), " in ", b_name, ", ", shortest(a.delta), " in ", a_name);
     }
     return std::nullopt;
 }

@@ -6,14 +6,13 @@
 #include "core/assert.hpp"
 #include "core/error.hpp"
 #include "core/text.hpp"
-#include "kb/detail/number.hpp"
 #include "kb/distance.hpp"
 
 namespace stepstone::kb {
 
 void KbParams::validate() const {
     if (!(delta > 0) || !std::isfinite(delta)) {
-        throw ConfigError(concat("delta must be > 0 and finite, got ", detail::number(delta)));
+        throw ConfigError(concat("delta must be > 0 and finite, got ", shortest(delta)));
     }
     if (segment_width < 1) throw ConfigError(concat("segment_width must be >= 1, got ", segment_width));
     if (channels < 1) throw ConfigError(concat("channels must be >= 1, got ", channels));
@@ -135,7 +134,7 @@ void KnowledgeBase::insert(const float* segment, const SegmentRecord& record) {
 ObserveResult KnowledgeBase::observe(Segments segments, double reward, Origin origin) {
     // validate everything before touching the KB
     check_segments(segments);
-    if (!std::isfinite(reward)) throw DataError(concat("reward must be finite, got ", detail::number(reward)));
+    if (!std::isfinite(reward)) throw DataError(concat("reward must be finite, got ", shortest(reward)));
     if (origin.source >= sources_.size()) {
         throw DataError(concat("observation names source ", origin.source, ", the knowledge base has ",
                                sources_.size()));

@@ -7,7 +7,6 @@
 #include "core/error.hpp"
 #include "core/rng.hpp"
 #include "core/text.hpp"
-#include "kb/detail/number.hpp"
 #include "kb/knowledge_base.hpp"
 
 namespace stepstone::kb {
@@ -24,8 +23,8 @@ void check_compatible(const KbParams& a, const KbParams& b) {
                                " in the merged knowledge base"));
     }
     if (a.delta != b.delta) {
-        throw DataError(concat("cannot merge: delta is ", detail::number(a.delta), " in the target, ",
-                               detail::number(b.delta), " in the merged knowledge base"));
+        throw DataError(concat("cannot merge: delta is ", shortest(a.delta), " in the target, ",
+                               shortest(b.delta), " in the merged knowledge base"));
     }
 }
 

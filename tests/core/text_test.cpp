@@ -1,0 +1,33 @@
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <cstdlib>
+#include <limits>
+#include <string>
+
+#include "core/text.hpp"
+
+using namespace stepstone;
+
+TEST_CASE("shortest gives the shortest text that reads back as the same double", "[core][text]") {
+    // hand-picked: what a user typed comes back as typed
+    CHECK(shortest(1.83) == "1.83");
+    CHECK(shortest(0.7) == "0.7");
+    CHECK(shortest(2.0) == "2");
+    CHECK(shortest(-0.25) == "-0.25");
+    CHECK(shortest(1e-300) == "1e-300");
+    CHECK(shortest(0.1 + 0.2) == "0.30000000000000004");
+    // every text reads back as the value, and %.17g is never shorter
+    for (const double v : {1.0 / 3.0, 1.83, 123456.789, 5e-324, std::numeric_limits<double>::max(), -7.0e22}) {
+        const std::string text = shortest(v);
+        CHECK(std::strtod(text.c_str(), nullptr) == v);
+        char longest[40];
+        std::snprintf(longest, sizeof longest, "%.17g", v);
+        CHECK(text.size() <= std::string(longest).size());
+    }
+}
+
+TEST_CASE("one_line turns line breaks into separators", "[core][text]") {
+    CHECK(one_line("a\nb\r\nc\n") == "a; b; c");
+    CHECK(one_line("plain") == "plain");
+}
