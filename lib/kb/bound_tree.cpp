@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <limits>
 
@@ -272,9 +273,13 @@ void search_generic(const View& t, std::uint32_t root, float root_gap, const flo
     search_loop(t, root, root_gap, query_f, limit, visit, context);
 }
 
-bool cpu_has_avx2() {
+// the AVX2 build of the loops when the CPU has AVX2, unless the environment
+// sets STEPSTONE_KB_GENERIC (so that the generic build is tested, and can be
+// compared, on any machine)
+bool use_avx2() {
 #if defined(__x86_64__) || defined(__i386__)
-    return __builtin_cpu_supports("avx2");
+    static const bool avx2 = __builtin_cpu_supports("avx2") && std::getenv("STEPSTONE_KB_GENERIC") == nullptr;
+    return avx2;
 #else
     return false;
 #endif
@@ -290,7 +295,7 @@ BoundTree::BoundTree(const float* points, std::size_t stride, std::size_t dims, 
       begin_(begin),
       end_(end),
       leaf_size_(std::max<std::size_t>(leaf_size, 1)),
-      avx2_(cpu_has_avx2()) {
+      avx2_(use_avx2()) {
     STEPSTONE_ASSERT(dims >= 1 && dims <= stride);
     STEPSTONE_ASSERT(end > begin && end - begin < kLeafBit);
     std::vector<std::uint32_t> order(end - begin);

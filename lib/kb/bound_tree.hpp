@@ -102,6 +102,10 @@ public:
     /// Bytes held per point (coordinates, boxes, ids and nodes).
     double bytes_per_point() const;
 
+    /// True when the search loops run their AVX2 build: the CPU has AVX2 and
+    /// the environment does not set STEPSTONE_KB_GENERIC (read once).
+    bool avx2() const { return avx2_; }
+
     /// Children of an inner node (up to kFanout): wide node indices, or leaf
     /// indices with kLeafBit set.
     static constexpr std::size_t kFanout = 8;

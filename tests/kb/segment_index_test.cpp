@@ -2,11 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <vector>
 
 #include "core/error.hpp"
 #include "core/rng.hpp"
 #include "kb/block_means.hpp"
+#include "kb/bound_tree.hpp"
 #include "kb/distance.hpp"
 #include "kb/projection.hpp"
 #include "kb/segment_index.hpp"
@@ -223,6 +225,20 @@ TEST_CASE("block means and projections add their terms in the documented order, 
             }
         }
     }
+}
+
+TEST_CASE("the tree walk runs its AVX2 build only where the CPU has it and STEPSTONE_KB_GENERIC is unset", "[kb][index]") {
+    // ctest runs this binary twice, the second time with STEPSTONE_KB_GENERIC=1,
+    // so that every index test also covers the generic build of the walk
+    std::vector<float> points(40 * 4);
+    for (std::size_t i = 0; i < points.size(); ++i) points[i] = static_cast<float>(i % 7);
+    const kb::BoundTree tree(points.data(), 4, 4, 0, 40, 16);
+#if defined(__x86_64__) || defined(__i386__)
+    const bool cpu = __builtin_cpu_supports("avx2");
+#else
+    const bool cpu = false;
+#endif
+    CHECK(tree.avx2() == (cpu && std::getenv("STEPSTONE_KB_GENERIC") == nullptr));
 }
 
 TEST_CASE("the index equals a linear scan on behaviour-like data, bulk-built and grown", "[kb][index]") {
