@@ -203,10 +203,14 @@ SegmentMatch KnowledgeBase::match_of(const float* segment) const {
     return SegmentMatch{near->id, std::sqrt(near->squared_distance), records_[near->id].average()};
 }
 
+bool KnowledgeBase::batched(Segments segments) const {
+    return params_.match == Match::within_delta && segments.size() > 1;
+}
+
 std::vector<SegmentMatch> KnowledgeBase::matches_of(Segments segments) const {
     std::vector<SegmentMatch> out;
     out.reserve(segments.size());
-    if (params_.match == Match::within_delta && segments.size() > 1) {
+    if (batched(segments)) {
         // the whole policy at once: one pass over the KB (brute force) or
         // interleaved tree walks
         std::vector<std::optional<Neighbour>> near(segments.size());
@@ -225,8 +229,7 @@ Lookup KnowledgeBase::lookup(Segments segments) const {
     // a whole policy within delta goes to the index's batch search, which
     // refuses non-finite values itself (from the block means it computes of
     // every query anyway) with the same message: the values are read once
-    const bool batch = params_.match == Match::within_delta && segments.size() > 1;
-    check_segments(segments, batch ? Finite::index_checks : Finite::check);
+    check_segments(segments, batched(segments) ? Finite::index_checks : Finite::check);
     Lookup result;
     result.segments = matches_of(segments);
     // a segment without a match contributes 0, so r_max is the largest of

@@ -177,6 +177,9 @@ private:
     void check_segments(Segments segments, Finite finite = Finite::check) const;
     void insert(const float* segment, const SegmentRecord& record);
     SegmentMatch match_of(const float* segment) const;
+    // true when matches_of() sends the policy to the index's batch search
+    // (within delta, more than one segment), which checks finiteness itself
+    bool batched(Segments segments) const;
     std::vector<SegmentMatch> matches_of(Segments segments) const;
 
     KbParams params_;
