@@ -21,19 +21,6 @@ typedef float Lanes __attribute__((vector_size(kLanes * sizeof(float))));
 
 typedef std::int32_t Flags __attribute__((vector_size(kLanes * sizeof(std::int32_t))));
 
-// the smallest float >= x (x >= 0)
-float float_at_least(double x) {
-    float f = static_cast<float>(x);
-    if (static_cast<double>(f) < x) {
-        // the next float up (f is finite and >= 0 here: x < inf rounded down)
-        std::uint32_t bits;
-        std::memcpy(&bits, &f, sizeof(bits));
-        ++bits;
-        std::memcpy(&f, &bits, sizeof(f));
-    }
-    return f;
-}
-
 // the largest float <= x (x >= 0)
 float float_at_most(double x) {
     float f = static_cast<float>(x);
@@ -184,10 +171,11 @@ template <class Report>
     const BoundTree::Leaf& leaf = t.leaves[node & ~BoundTree::kLeafBit];
     const std::size_t count = leaf.count, width = padded(count);
     const float* block = t.coords + leaf.block;
-    // the points within the limit (rounded up to float: a superset) as bits,
-    // 16 at a time, so that a leaf of 9 to 16 points (the usual one) is one
-    // mask; padding points excluded
-    const Lanes lim = float_at_least(limit) - Lanes{};
+    // the points within the limit as bits (a float gap is <= limit exactly
+    // when it is <= the largest float <= limit), 16 at a time, so that a leaf
+    // of 9 to 16 points (the usual one) is one mask; padding points excluded.
+    // `report` may shrink the limit: each point is checked against it again
+    const Lanes lim = float_at_most(limit) - Lanes{};
     for (std::size_t i0 = 0; i0 < count; i0 += 2 * kLanes) {
         float gaps[2 * kLanes];
         Lanes g;
