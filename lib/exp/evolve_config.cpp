@@ -1,6 +1,5 @@
 #include "exp/evolve_config.hpp"
 
-
 #include "core/config.hpp"
 #include "core/error.hpp"
 #include "core/text.hpp"

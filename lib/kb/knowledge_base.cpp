@@ -25,7 +25,6 @@ KbParams validated(KbParams params) {
     return params;
 }
 
-
 }  // namespace
 
 KnowledgeBase::KnowledgeBase(KbParams params)

@@ -8,7 +8,6 @@
 #include <vector>
 
 #include "kb/detail/huge_pages.hpp"
-
 #include "kb/segment_index.hpp"
 #include "kb/segments.hpp"
 
