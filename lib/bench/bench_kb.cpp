@@ -31,7 +31,7 @@ constexpr std::size_t kChannels = 15;
 constexpr std::size_t kWidth = 20;
 constexpr std::size_t kDim = kChannels * kWidth;
 constexpr std::size_t kSteps = 4000;
-constexpr std::size_t kSegmentsPerPolicy = kSteps / kWidth;
+static_assert(kSteps / kWidth == kSegmentsPerPolicy);
 constexpr double kDelta = 1.83;
 constexpr std::size_t kPaperKbSize = 32580;
 constexpr std::size_t kPaperPopulation = 200;
@@ -147,13 +147,13 @@ std::vector<float> synthetic_behaviours(std::uint64_t seed, std::size_t policies
     return out;
 }
 
+double seconds_since(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point start) {
-    return std::chrono::duration<double>(Clock::now() - start).count();
-}
 
 kb::KbParams paper_params() {
     kb::KbParams p;

@@ -4,6 +4,7 @@
 // brute force, on realistic synthetic behaviours and on uniform noise, and
 // against FLANN's approximate kd-forest.
 
+#include <chrono>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -12,6 +13,12 @@
 #include "kb/knowledge_base.hpp"
 
 namespace stepstone::bench {
+
+/// Segments of one policy in the kb workloads: 4000 steps in windows of 20.
+inline constexpr std::size_t kSegmentsPerPolicy = 200;
+
+/// Seconds of the steady clock since `start`.
+double seconds_since(std::chrono::steady_clock::time_point start);
 
 /// Registers `kb` (one paper generation's observe step: index vs batched brute
 /// force), `kb-loop` (same, vs a plain loop), `kb-uniform` (uniform random

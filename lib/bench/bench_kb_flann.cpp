@@ -30,17 +30,12 @@ namespace {
 using Clock = std::chrono::steady_clock;
 using FlannIndex = flann::Index<flann::L2<float>>;
 
-constexpr std::size_t kSegmentsPerPolicy = 200;  // 4000 steps / width 20
 constexpr int kTrees = 4;
 constexpr int kChecks = 128;
 // FLANN draws its split dimensions from rand(); Debian's 1.9.2 shuffles the
 // points with std::random_device, so the forest (and its recall) still varies
 // slightly from run to run
 constexpr unsigned kFlannSeed = 0x5eed;
-
-double seconds_since(Clock::time_point start) {
-    return std::chrono::duration<double>(Clock::now() - start).count();
-}
 
 // the KB's segments as a FLANN dataset (FLANN keeps pointers into them)
 std::unique_ptr<FlannIndex> build_flann(const kb::KnowledgeBase& kb) {
