@@ -55,6 +55,7 @@ struct StepView {
     const float* outputs = nullptr;  ///< the 3 outputs after NaN replacement and clamping
     bool carrying = false;           ///< after this step's action
     int balls = 0;                   ///< balls scored so far, all starts
+    bool door_open = false;          ///< after this step's action (a switch press opens it)
 };
 
 /// An observer that ignores every step.
@@ -154,7 +155,8 @@ EpisodeResult run_episode(const Task& task, Controller& controller, const Record
             if constexpr (requires { controller.observe_pose(pose); }) controller.observe_pose(pose);
             controller.step(inputs.data(), outputs.data());
             episode.act(outputs.data());
-            observer(StepView{start, step, pose, inputs.data(), outputs.data(), episode.carrying(), episode.balls()});
+            observer(StepView{start, step, pose, inputs.data(), outputs.data(), episode.carrying(), episode.balls(),
+                              episode.door_open()});
             if (episode.stopped()) break;
         }
     }

@@ -1,0 +1,272 @@
+// Line charts, histograms and strip charts on a Canvas.
+
+#include "report/chart.hpp"
+
+#include <cairo.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "stats/summary.hpp"
+
+namespace stepstone::report {
+
+namespace {
+
+constexpr double kTitleSize = 17.0;
+constexpr double kLabelSize = 14.0;
+constexpr double kTickSize = 12.0;
+constexpr Colour kText = Colour::hex(0x222222);
+constexpr Colour kGrid = Colour::hex(0xE3E3E3);
+constexpr Colour kAxis = Colour::hex(0x555555);
+
+struct Bounds {
+    double low = std::numeric_limits<double>::infinity();
+    double high = -std::numeric_limits<double>::infinity();
+    void add(double v) {
+        if (!std::isfinite(v)) return;
+        low = std::min(low, v);
+        high = std::max(high, v);
+    }
+    void add(std::span<const double> values) {
+        for (const double v : values) add(v);
+    }
+    bool empty() const { return low > high; }
+};
+
+}  // namespace
+
+Chart::Chart(Canvas& canvas, const ChartFrame& frame, double x0, double x1, double y0, double y1)
+    : canvas_(canvas) {
+    if (frame.x_range) std::tie(x0, x1) = *frame.x_range;
+    if (frame.y_range) std::tie(y0, y1) = *frame.y_range;
+    x_ticks_ = nice_ticks(x0, x1, 8);
+    y_ticks_ = nice_ticks(y0, y1, 6);
+
+    canvas.fill(kWhite);
+    // room for the widest y tick label
+    double label_width = 0.0;
+    for (const double v : y_ticks_.values) label_width = std::max(label_width, canvas.text_width(y_ticks_.label(v), kTickSize));
+    left_ = 30.0 + label_width + 14.0;
+    right_ = canvas.width() - 24.0;
+    top_ = frame.title.empty() ? 20.0 : 48.0;
+    bottom_ = canvas.height() - 58.0;
+    x_scale_ = {x_ticks_.low, x_ticks_.high, left_, right_};
+    y_scale_ = {y_ticks_.low, y_ticks_.high, bottom_, top_};
+
+    cairo_t* cr = canvas.cr();
+    if (!frame.title.empty()) canvas.text(canvas.width() / 2.0, 14.0, frame.title, kTitleSize, kText, 0.5, 0.0, true);
+    cairo_set_line_width(cr, 1.0);
+    canvas.set_colour(kGrid);
+    for (const double v : y_ticks_.values) {
+        cairo_move_to(cr, left_, std::round(py(v)) + 0.5);
+        cairo_line_to(cr, right_, std::round(py(v)) + 0.5);
+    }
+    for (const double v : x_ticks_.values) {
+        cairo_move_to(cr, std::round(px(v)) + 0.5, top_);
+        cairo_line_to(cr, std::round(px(v)) + 0.5, bottom_);
+    }
+    cairo_stroke(cr);
+    canvas.set_colour(kAxis);
+    cairo_rectangle(cr, left_ + 0.5, top_ + 0.5, right_ - left_ - 1.0, bottom_ - top_ - 1.0);
+    cairo_stroke(cr);
+    for (const double v : y_ticks_.values) {
+        cairo_move_to(cr, left_ - 5.0, std::round(py(v)) + 0.5);
+        cairo_line_to(cr, left_, std::round(py(v)) + 0.5);
+        canvas.text(left_ - 8.0, py(v), y_ticks_.label(v), kTickSize, kText, 1.0, 0.5);
+    }
+    for (const double v : x_ticks_.values) {
+        cairo_move_to(cr, std::round(px(v)) + 0.5, bottom_);
+        cairo_line_to(cr, std::round(px(v)) + 0.5, bottom_ + 5.0);
+        if (frame.x_tick_labels) canvas.text(px(v), bottom_ + 8.0, x_ticks_.label(v), kTickSize, kText, 0.5, 0.0);
+    }
+    canvas.set_colour(kAxis);
+    cairo_stroke(cr);
+    canvas.text((left_ + right_) / 2.0, canvas.height() - 8.0, frame.x_label, kLabelSize, kText, 0.5, 1.0);
+    canvas.text(12.0, (top_ + bottom_) / 2.0, frame.y_label, kLabelSize, kText, 0.5, 0.0, false, -M_PI / 2.0);
+}
+
+void Chart::clip() {
+    cairo_save(canvas_.cr());
+    cairo_rectangle(canvas_.cr(), left_, top_, right_ - left_, bottom_ - top_);
+    cairo_clip(canvas_.cr());
+}
+
+void Chart::release_clip() { cairo_restore(canvas_.cr()); }
+
+void Chart::curve(const Curve& c) {
+    cairo_t* cr = canvas_.cr();
+    const std::size_t n = std::min(c.x.size(), c.y.size());
+    if (n == 0) return;
+    clip();
+    auto trace = [&](const std::vector<double>& ys, bool reverse) {
+        for (std::size_t k = 0; k < n; ++k) {
+            const std::size_t i = reverse ? n - 1 - k : k;
+            const double x = px(c.x[i]);
+            const double y = py(ys[i]);
+            if (!c.steps) {
+                cairo_line_to(cr, x, y);
+                continue;
+            }
+            // hold each value until the next x (walking backwards: from the next x)
+            const std::size_t next = reverse ? (i + 1 < n ? i + 1 : i) : i;
+            if (reverse) {
+                cairo_line_to(cr, px(c.x[next]), y);
+                cairo_line_to(cr, x, y);
+            } else {
+                cairo_line_to(cr, x, y);
+                if (i + 1 < n) cairo_line_to(cr, px(c.x[i + 1]), y);
+            }
+        }
+    };
+    if (c.low.size() == n && c.high.size() == n) {
+        cairo_new_path(cr);
+        trace(c.high, false);
+        trace(c.low, true);
+        cairo_close_path(cr);
+        canvas_.set_colour(c.colour, 0.22);
+        cairo_fill(cr);
+    }
+    cairo_new_path(cr);
+    if (n == 1) {
+        cairo_arc(cr, px(c.x[0]), py(c.y[0]), 3.0, 0.0, 2.0 * M_PI);
+        canvas_.set_colour(c.colour);
+        cairo_fill(cr);
+    } else {
+        trace(c.y, false);
+        canvas_.set_colour(c.colour);
+        cairo_set_line_width(cr, 2.2);
+        if (c.dashed) {
+            const double dashes[] = {7.0, 4.0};
+            cairo_set_dash(cr, dashes, 2, 0.0);
+        }
+        cairo_stroke(cr);
+        cairo_set_dash(cr, nullptr, 0, 0.0);
+    }
+    release_clip();
+}
+
+void Chart::bar(double x0, double x1, double height, Colour colour) {
+    cairo_t* cr = canvas_.cr();
+    const double base = py(std::max(0.0, y_ticks_.low));
+    cairo_rectangle(cr, px(x0) + 0.5, py(height), std::max(px(x1) - px(x0) - 1.0, 1.0), base - py(height));
+    canvas_.set_colour(colour);
+    cairo_fill(cr);
+}
+
+void Chart::point(double x, double y, double radius, Colour colour, double alpha) {
+    cairo_t* cr = canvas_.cr();
+    cairo_new_path(cr);
+    cairo_arc(cr, px(x), py(y), radius, 0.0, 2.0 * M_PI);
+    canvas_.set_colour(colour, alpha);
+    cairo_fill_preserve(cr);
+    canvas_.set_colour(colour);
+    cairo_set_line_width(cr, 1.0);
+    cairo_stroke(cr);
+}
+
+void Chart::reference(double y, const std::string& label) {
+    cairo_t* cr = canvas_.cr();
+    const double dashes[] = {5.0, 4.0};
+    cairo_set_dash(cr, dashes, 2, 0.0);
+    cairo_set_line_width(cr, 1.3);
+    canvas_.set_colour(kGrey);
+    cairo_move_to(cr, left_, py(y));
+    cairo_line_to(cr, right_, py(y));
+    cairo_stroke(cr);
+    cairo_set_dash(cr, nullptr, 0, 0.0);
+    canvas_.text(right_ - 4.0, py(y) - 3.0, label, kTickSize, kGrey, 1.0, 1.0);
+}
+
+void Chart::legend(std::span<const std::pair<std::string, Colour>> entries, bool right) {
+    if (entries.empty()) return;
+    cairo_t* cr = canvas_.cr();
+    double width = 0.0;
+    for (const auto& [name, colour] : entries) width = std::max(width, canvas_.text_width(name, kTickSize));
+    const double row = 19.0;
+    const double box_w = width + 44.0;
+    const double box_h = row * static_cast<double>(entries.size()) + 10.0;
+    const double x = right ? right_ - box_w - 10.0 : left_ + 10.0;
+    const double y = top_ + 10.0;
+    cairo_rectangle(cr, x, y, box_w, box_h);
+    canvas_.set_colour(kWhite, 0.88);
+    cairo_fill_preserve(cr);
+    canvas_.set_colour(kGrid);
+    cairo_set_line_width(cr, 1.0);
+    cairo_stroke(cr);
+    for (std::size_t i = 0; i < entries.size(); ++i) {
+        const double cy = y + 5.0 + row * (static_cast<double>(i) + 0.5);
+        cairo_rectangle(cr, x + 8.0, cy - 5.0, 20.0, 10.0);
+        canvas_.set_colour(entries[i].second);
+        cairo_fill(cr);
+        canvas_.text(x + 36.0, cy, entries[i].first, kTickSize, kText, 0.0, 0.5);
+    }
+}
+
+void line_chart(Canvas& canvas, const ChartFrame& frame, std::span<const Curve> curves) {
+    Bounds xs, ys;
+    for (const auto& c : curves) {
+        xs.add(c.x);
+        ys.add(c.y);
+        ys.add(c.low);
+        ys.add(c.high);
+    }
+    if (xs.empty()) xs = {0.0, 1.0};
+    if (ys.empty()) ys = {0.0, 1.0};
+    Chart chart(canvas, frame, xs.low, xs.high, std::min(ys.low, 0.0), ys.high);
+    std::vector<std::pair<std::string, Colour>> legend;
+    for (const auto& c : curves) {
+        chart.curve(c);
+        if (!c.name.empty()) legend.emplace_back(c.name, c.colour);
+    }
+    chart.legend(legend);
+}
+
+void histogram_chart(Canvas& canvas, const ChartFrame& frame, std::span<const double> edges,
+                     std::span<const double> counts, Colour colour) {
+    Bounds ys;
+    ys.add(counts);
+    if (ys.empty()) ys = {0.0, 1.0};
+    const double x0 = edges.empty() ? 0.0 : edges.front();
+    const double x1 = edges.empty() ? 1.0 : edges.back();
+    Chart chart(canvas, frame, x0, x1, 0.0, std::max(ys.high, 1.0));
+    for (std::size_t i = 0; i + 1 < edges.size() && i < counts.size(); ++i) {
+        if (counts[i] > 0) chart.bar(edges[i], edges[i + 1], counts[i], colour);
+    }
+}
+
+void strip_chart(Canvas& canvas, const ChartFrame& frame, std::span<const Strip> strips,
+                 std::optional<double> threshold) {
+    Bounds ys;
+    for (const auto& s : strips) ys.add(s.values);
+    if (threshold) ys.add(*threshold);
+    if (ys.empty()) ys = {0.0, 1.0};
+    ChartFrame f = frame;
+    const auto n = static_cast<double>(strips.size());
+    f.x_range = std::pair{0.5, std::max(n, 1.0) + 0.5};
+    f.x_tick_labels = false;  // the slots 1..n are labelled with the group names
+    Chart chart(canvas, f, 0.5, n + 0.5, std::min(ys.low, 0.0), ys.high);
+    cairo_t* cr = canvas.cr();
+    if (threshold) chart.reference(*threshold, "success threshold");
+    for (std::size_t g = 0; g < strips.size(); ++g) {
+        const auto& s = strips[g];
+        const double slot = static_cast<double>(g + 1);
+        canvas.text(chart.px(slot), chart.py(chart.y_ticks().low) + 8.0, s.name, kLabelSize, kText, 0.5, 0.0);
+        for (std::size_t i = 0; i < s.values.size(); ++i) {
+            // a low-discrepancy spread in [-0.28, 0.28): the golden-ratio sequence
+            const double u = std::fmod(0.5 + static_cast<double>(i) * 0.6180339887498949, 1.0);
+            chart.point(slot + (u - 0.5) * 0.56, s.values[i], 4.5, s.colour, 0.55);
+        }
+        if (!s.values.empty()) {
+            const double median = stats::summarize(s.values).median;
+            cairo_set_line_width(cr, 3.0);
+            canvas.set_colour(kBlack);
+            cairo_move_to(cr, chart.px(slot - 0.34), chart.py(median));
+            cairo_line_to(cr, chart.px(slot + 0.34), chart.py(median));
+            cairo_stroke(cr);
+        }
+    }
+}
+
+}  // namespace stepstone::report

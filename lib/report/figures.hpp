@@ -1,0 +1,57 @@
+#pragma once
+
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "db/connection.hpp"
+#include "exp/campaign_stats.hpp"
+#include "exp/treatment.hpp"
+#include "kb/knowledge_base.hpp"
+#include "report/canvas.hpp"
+
+namespace stepstone::report {
+
+/// One generation of a run, as its figures read it.
+struct GenerationPoint {
+    int generation = 0;
+    double best = 0.0;    ///< best task reward among the survivors
+    double median = 0.0;  ///< median task reward among the survivors
+    std::optional<double> mean_shaping;  ///< mean r_max of the policies evaluated then
+    std::optional<double> max_shaping;   ///< largest r_max of the policies evaluated then
+};
+
+/// The generation table of run `run_id`, in generation order.
+std::vector<GenerationPoint> load_generations(db::Connection& connection, std::int64_t run_id);
+
+/// The colour of a treatment in every campaign figure.
+Colour treatment_colour(exp::Treatment treatment);
+
+/// Best and median task reward per generation of one run.
+void draw_run_rewards(Canvas& canvas, std::span<const GenerationPoint> generations, const std::string& title);
+/// Mean and largest r_max of the policies evaluated in each generation of one
+/// run (a run shaped by, or recording, a knowledge base).
+void draw_run_shaping(Canvas& canvas, std::span<const GenerationPoint> generations, const std::string& title);
+
+/// The paper's Fig. 3: segments per average-reward bin (`bins` bins of equal
+/// width over [0, largest average]; [0, 1] when that is 0).
+void draw_kb_histogram(Canvas& canvas, const kb::KnowledgeBase& kb, const std::string& title, int bins = 25);
+/// The KB's size after each observed generation (by the generation whose
+/// observation inserted each segment; sources one after another).
+void draw_kb_growth(Canvas& canvas, const kb::KnowledgeBase& kb, const std::string& title);
+
+/// Per treatment, the median over seeds of the best-so-far task reward along
+/// generations, with the band between the first and third quartiles.
+void draw_treatment_rewards(Canvas& canvas, const exp::CampaignStats& stats);
+/// The paper's Fig. 6: successful runs per treatment along generations.
+void draw_successes(Canvas& canvas, const exp::CampaignStats& stats);
+/// The paper's Fig. 7: each run's best-of-run reward at the chosen generation,
+/// jittered by treatment, with medians and the success threshold.
+void draw_best_of_run(Canvas& canvas, const exp::CampaignStats& stats);
+/// Per treatment, the median over seeds of each run's mean r_max per
+/// generation: `series[t][r]` is run r of treatment t's generations.
+void draw_treatment_shaping(Canvas& canvas, std::span<const exp::Treatment> treatments,
+                            std::span<const std::vector<std::vector<GenerationPoint>>> series);
+
+}  // namespace stepstone::report

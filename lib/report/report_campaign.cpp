@@ -1,0 +1,267 @@
+// The campaign report: treatments compared (the paper's Fig. 6 and 7 and its
+// appendix), the campaign's knowledge base (Fig. 3), the best source and
+// target policies coloured by saliency (Fig. 4, 5 and 8), runs and provenance.
+
+#include <algorithm>
+#include <map>
+#include <optional>
+
+#include "core/error.hpp"
+#include "core/output_file.hpp"
+#include "core/text.hpp"
+#include "db/database.hpp"
+#include "exp/campaign.hpp"
+#include "exp/campaign_stats.hpp"
+#include "exp/run_store.hpp"
+#include "report/chart.hpp"
+#include "report/figures.hpp"
+#include "report/sections.hpp"
+
+namespace stepstone::report {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// a campaign_run row with what the report shows
+struct RunRow {
+    std::string step, treatment, file, status, digest, error;
+    std::uint64_t seed = 0;
+    int generations = 0, generations_done = -1;
+    std::optional<double> best_reward;
+    double wall_time = 0.0;
+};
+
+struct KbRow {
+    std::string name, file, made_from, digest;
+    std::int64_t segments = 0;
+};
+
+std::vector<RunRow> load_runs(db::Connection& connection) {
+    auto rows = connection.prepare(db::sql("report/select_campaign_runs.sql"));
+    std::vector<RunRow> out;
+    while (rows.step()) {
+        RunRow r;
+        r.step = rows.column_text(1);
+        r.treatment = rows.column_text(2);
+        r.seed = static_cast<std::uint64_t>(rows.column_int(3));
+        r.file = rows.column_text(4);
+        r.generations = static_cast<int>(rows.column_int(5));
+        r.status = rows.column_text(6);
+        r.generations_done = static_cast<int>(rows.column_int(7));
+        if (!rows.is_null(8)) r.best_reward = rows.column_double(8);
+        if (!rows.is_null(9)) r.digest = rows.column_text(9);
+        r.wall_time = rows.column_double(10);
+        if (!rows.is_null(11)) r.error = rows.column_text(11);
+        out.push_back(std::move(r));
+    }
+    return out;
+}
+
+std::vector<KbRow> load_kbs(db::Connection& connection) {
+    auto rows = connection.prepare(db::sql("report/select_campaign_kbs.sql"));
+    std::vector<KbRow> out;
+    while (rows.step()) {
+        out.push_back({rows.column_text(0), rows.column_text(1), rows.column_text(2), rows.column_text(4),
+                       rows.column_int(3)});
+    }
+    return out;
+}
+
+// the statistics at the asked generation, or at the last one every target
+// run has reached when some are unfinished (said in `notes`)
+std::optional<exp::CampaignStats> load_stats(const ReportOptions& options, const std::vector<RunRow>& runs,
+                                             std::vector<std::string>& notes) {
+    try {
+        return exp::campaign_stats(options.input, options.generation, options.threshold);
+    } catch (const DataError& e) {
+        if (options.generation) throw;
+        int reached = -1;
+        bool any = false;
+        for (const auto& r : runs) {
+            if (r.step != "target") continue;
+            reached = any ? std::min(reached, r.generations_done) : r.generations_done;
+            any = true;
+        }
+        if (!any) {
+            notes.push_back("the campaign has no target runs: no treatment comparison");
+            return std::nullopt;
+        }
+        if (reached < 0) {
+            notes.push_back(concat("treatments not compared: ", e.what()));
+            return std::nullopt;
+        }
+        notes.push_back(concat("some target runs are unfinished: treatments compared at generation ", reached,
+                               ", the last one every target run has reached"));
+        return exp::campaign_stats(options.input, reached, options.threshold);
+    }
+}
+
+std::string p_value(double p) {
+    char text[32];
+    std::snprintf(text, sizeof text, p < 0.001 ? "%.2e" : "%.4f", p);
+    return text;
+}
+
+void add_statistics(Page& page, const exp::CampaignStats& stats, const std::vector<RunRow>& runs,
+                    const fs::path& dir) {
+    page.heading("Treatments compared");
+    page.paragraph(concat("Target runs at generation ", stats.generation, "; a run succeeds when its best-of-run task "
+                          "reward reaches ", fixed(stats.threshold, 3), ". The paper reports, at generation 3000 "
+                          "with 20 runs each: sum 35 %, mo 30 %, every control 0 %."));
+    std::vector<std::vector<std::string>> rows;
+    for (const auto& t : stats.treatments) {
+        const auto& s = t.summary;
+        rows.push_back({std::string(exp::to_string(t.treatment)), std::to_string(s.n),
+                        concat(t.successes, " (", fixed(100.0 * static_cast<double>(t.successes) /
+                                                             static_cast<double>(std::max<std::size_t>(s.n, 1)), 0),
+                               " %)"),
+                        fixed(s.min, 4), fixed(s.q1, 4), fixed(s.median, 4), fixed(s.q3, 4), fixed(s.max, 4)});
+    }
+    page.table({"treatment", "runs", "successes", "min", "q1", "median", "q3", "max"}, rows,
+               "Best-of-run task reward per treatment (quartiles: R type 7)");
+    page.figure("successes", kFigureWidth, kFigureHeight,
+                "Successful runs per treatment along generations (the paper's Fig. 6).",
+                [&](Canvas& c) { draw_successes(c, stats); });
+    page.figure("best-of-run", kFigureWidth, kFigureHeight,
+                concat("Best-of-run task reward of every target run at generation ", stats.generation,
+                       ", jittered sideways; black bars are medians (the paper's Fig. 7)."),
+                [&](Canvas& c) { draw_best_of_run(c, stats); });
+    page.figure("treatment-rewards", kFigureWidth, kFigureHeight,
+                "Best-so-far task reward along generations: per treatment the median over seeds (line) and the "
+                "quartiles (band).",
+                [&](Canvas& c) { draw_treatment_rewards(c, stats); });
+
+    std::vector<std::vector<std::string>> tests;
+    for (const auto& t : stats.tests) {
+        tests.push_back({concat(exp::to_string(t.a), " vs ", exp::to_string(t.b)), concat(t.n_a, " / ", t.n_b),
+                         fixed(t.test.u, 1), p_value(t.test.p), p_value(t.p_holm), fixed(t.a12, 3)});
+    }
+    page.table({"pair", "runs", "U (first)", "p (two-sided)", "p (Holm)", "A12 (first over second)"}, tests,
+               "Mann-Whitney U on the best-of-run rewards (SciPy's method=\"auto\" conventions), Holm-adjusted over "
+               "every pair, and Vargha-Delaney A12. The paper: sum vs none p = 0.011, mo vs none p = 0.0054.");
+
+    // the shaping signal, from every target run's individual table
+    std::vector<exp::Treatment> treatments;
+    std::vector<std::vector<std::vector<GenerationPoint>>> series;
+    for (const auto& t : stats.treatments) {
+        treatments.push_back(t.treatment);
+        series.emplace_back();
+        for (const auto& r : runs) {
+            if (r.step != "target" || r.treatment != exp::to_string(t.treatment) || !fs::exists(dir / r.file)) continue;
+            auto connection = db::open_database(dir / r.file, db::OpenMode::read_only);
+            series.back().push_back(load_generations(connection, exp::load_run(connection).id));
+        }
+    }
+    const bool shaped = std::any_of(series.begin(), series.end(), [](const auto& t) {
+        return std::any_of(t.begin(), t.end(), [](const auto& run) {
+            return std::any_of(run.begin(), run.end(), [](const auto& g) { return g.mean_shaping.has_value(); });
+        });
+    });
+    if (shaped) {
+        page.figure("treatment-shaping", kFigureWidth, kFigureHeight,
+                    "The shaping signal: mean r_max of the policies evaluated in each generation, median over seeds "
+                    "with the quartile band. The -rand treatments read the randomized KB, whose averages are "
+                    "U[0, 1) draws, so their r_max sits near its top by construction.",
+                    [&](Canvas& c) { draw_treatment_shaping(c, treatments, series); });
+    }
+}
+
+// the finished run of `step` with the highest best reward (first on ties)
+const RunRow* best_run(const std::vector<RunRow>& runs, const std::string& step) {
+    const RunRow* best = nullptr;
+    for (const auto& r : runs) {
+        if (r.step != step || !r.best_reward || r.generations_done < 0) continue;
+        if (best == nullptr || *r.best_reward > *best->best_reward) best = &r;
+    }
+    return best;
+}
+
+}  // namespace
+
+void campaign_report(const ReportOptions& options, const fs::path& dir, ReportSummary& summary) {
+    const fs::path& campaign_dir = options.input;
+    const auto index = exp::load_campaign(campaign_dir);
+    auto connection = db::open_database(campaign_dir / "campaign.db", db::OpenMode::read_only);
+    const auto runs = load_runs(connection);
+    const auto kbs = load_kbs(connection);
+    Progress progress("report", 5, options.progress);
+    Page page(dir, concat("stepstone report: campaign ", campaign_dir.filename().string()));
+
+    std::size_t finished = 0;
+    for (const auto& r : runs) finished += r.status == "finished";
+    page.paragraph(concat("Campaign directory <code>", xml_escape(campaign_dir.string()), "</code>: ", runs.size(),
+                          " runs, ", finished, " finished."));
+
+    const auto stats = load_stats(options, runs, summary.notes);
+    for (const auto& note : summary.notes) page.paragraph(concat("<span class=\"note\">Note: ", xml_escape(note), ".</span>"));
+    if (stats) add_statistics(page, *stats, runs, campaign_dir);
+    progress.update(1);
+
+    // the knowledge bases and the policies they colour
+    std::map<std::string, db::StoredKb> loaded;
+    for (const auto& k : kbs) {
+        if (!fs::exists(campaign_dir / k.file)) continue;
+        auto kb_connection = db::open_database(campaign_dir / k.file, db::OpenMode::read_only);
+        loaded.emplace(k.name, db::load_kb(kb_connection));
+    }
+    const auto kb_it = loaded.find("kb");
+    const db::StoredKb* kb = kb_it == loaded.end() ? nullptr : &kb_it->second;
+    if (kb != nullptr) {
+        page.heading("The knowledge base");
+        const auto row = std::find_if(kbs.begin(), kbs.end(), [](const auto& k) { return k.name == "kb"; });
+        add_kb_section(page, "", *kb, row->made_from);
+    }
+    progress.update(2);
+    if (const auto* source = best_run(runs, "source")) {
+        page.heading("The best source policy");
+        const auto trace = trace_policy(campaign_dir / source->file, "best", 0, kb ? &kb->kb : nullptr,
+                                        kb ? kb->name : "");
+        add_trajectory(page, "source-best", trace, concat("The best policy of ", source->file));
+    }
+    progress.update(3);
+    if (const auto* target = best_run(runs, "target")) {
+        page.heading("The best target policy");
+        // coloured by the KB the run was shaped with
+        const bool randomized = target->treatment.ends_with("-rand");
+        const auto it = loaded.find(randomized ? "kb-rand" : "kb");
+        const db::StoredKb* used = it == loaded.end() ? nullptr : &it->second;
+        const auto trace = trace_policy(campaign_dir / target->file, "best", 0, used ? &used->kb : nullptr,
+                                        used ? used->name : "");
+        add_trajectory(page, "target-best", trace,
+                       concat("The best policy of ", target->file, " (treatment ", target->treatment, ")"));
+    }
+    progress.update(4);
+
+    page.heading("Runs");
+    std::vector<std::vector<std::string>> rows;
+    for (const auto& r : runs) {
+        rows.push_back({r.file, r.step, r.treatment, std::to_string(r.seed),
+                        concat(r.generations_done, " / ", r.generations), r.status,
+                        r.best_reward ? fixed(*r.best_reward, 4) : "-", format_duration(r.wall_time),
+                        r.digest.empty() ? (r.error.empty() ? "-" : r.error) : r.digest.substr(0, 16)});
+    }
+    page.table({"file", "step", "treatment", "seed", "generations", "status", "best reward", "time",
+                "digest (first 16 hex) or error"},
+               rows);
+    if (!kbs.empty()) {
+        std::vector<std::vector<std::string>> kb_rows;
+        for (const auto& k : kbs) kb_rows.push_back({k.name, k.file, k.made_from, std::to_string(k.segments), k.digest});
+        page.table({"KB", "file", "made from", "segments", "content digest"}, kb_rows, "Knowledge bases");
+    }
+    page.heading("Provenance");
+    page.paragraph(concat("Report written by stepstone " STEPSTONE_VERSION ". Every run file's digest "
+                          "(<code>stepstone db digest</code>) is in the runs table; the same seeds and configs give "
+                          "the same digests on any machine and thread count."));
+    page.heading("Campaign config", 3);
+    page.preformatted(index.config.dump(2));
+    progress.finish();
+
+    OutputFile out(dir / "index.html", false);
+    out.stream() << page.html();
+    out.commit();
+    summary.files = page.files();
+    summary.files.push_back("index.html");
+}
+
+}  // namespace stepstone::report

@@ -1,0 +1,95 @@
+// The arena figure puts wall pixels exactly where the geometry puts walls.
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <random>
+
+#include "images.hpp"
+#include "report/arena_figure.hpp"
+#include "sim/units.hpp"
+
+using namespace stepstone;
+using namespace stepstone::report;
+using reporttest::Rgb;
+
+namespace {
+
+Rgb rgb(Colour c) {
+    return {static_cast<int>(std::lround(c.r * 255)), static_cast<int>(std::lround(c.g * 255)),
+            static_cast<int>(std::lround(c.b * 255))};
+}
+
+reporttest::Image draw(const sim::Task& task, bool door_open, const ArenaLayout& layout) {
+    Canvas canvas(layout.width, layout.height, Format::png);
+    draw_arena(canvas, task, door_open, "", layout);
+    return reporttest::decode_png(canvas.finish());
+}
+
+// distance from (x, y) to the box, 0 inside
+double box_distance(const sim::WallBox& w, double x, double y) {
+    const double dx = std::max({w.x0 - x, 0.0, x - w.x1});
+    const double dy = std::max({w.y0 - y, 0.0, y - w.y1});
+    return std::hypot(dx, dy);
+}
+
+}  // namespace
+
+TEST_CASE("wall pixels lie inside the wall boxes and floor pixels outside") {
+    sim::TaskConfig config;
+    const auto task = sim::make_task(config);  // the source task: door closed
+    const ArenaLayout layout;
+    const auto image = draw(*task, false, layout);
+    const auto walls = task->arena().walls();
+    const auto pixel = [&](double x, double y) {
+        return image.at(static_cast<int>(std::floor(layout.px(x))), static_cast<int>(std::floor(layout.py(y))));
+    };
+
+    // inside: each box's centre and points a third of the way in from its corners
+    for (std::size_t i = 0; i < walls.size(); ++i) {
+        const auto& w = walls[i];
+        CAPTURE(i, w.x0, w.y0, w.x1, w.y1);
+        const Rgb expected = static_cast<int>(i) == task->arena().door_index() ? rgb(kDoor) : rgb(kWall);
+        for (const auto& [fx, fy] : {std::pair{0.5, 0.5}, {0.34, 0.34}, {0.66, 0.66}, {0.34, 0.66}, {0.66, 0.34}}) {
+            const double x = w.x0 + fx * (w.x1 - w.x0), y = w.y0 + fy * (w.y1 - w.y0);
+            // only where the box is more than a pixel thick around the point
+            if (box_distance({w.x0 + 1.5, w.y0 + 1.5, w.x1 - 1.5, w.y1 - 1.5, ""}, x, y) > 0) continue;
+            CHECK(pixel(x, y) == expected);
+        }
+    }
+
+    // outside: random floor points clear of every wall, light, start pose and the basket
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> ux(0.0, 600.0), uy(0.0, 400.0);
+    int floor_points = 0;
+    for (int k = 0; k < 4000 && floor_points < 300; ++k) {
+        const double x = ux(rng), y = uy(rng);
+        bool clear = true;
+        for (const auto& w : walls) clear = clear && box_distance(w, x, y) > 3.0;
+        for (const auto& light : task->lights()) clear = clear && std::hypot(light.x - x, light.y - y) > 14.0;
+        for (int s = 0; s < 3; ++s) {
+            const auto& pose = task->start_pose(s);
+            clear = clear && std::hypot(pose.x - x, pose.y - y) > 2.0 * sim::kRobotRadius;
+        }
+        clear = clear && std::hypot(sim::kBasketX - x, sim::kBasketY - y) > sim::kBasketRadius + 3.0;
+        if (!clear) continue;
+        CAPTURE(x, y);
+        CHECK(pixel(x, y) == rgb(kFloor));
+        ++floor_points;
+    }
+    CHECK(floor_points == 300);
+}
+
+TEST_CASE("an open door is drawn as an outline: its inside is floor") {
+    sim::TaskConfig config;
+    config.kind = sim::TaskKind::target;  // the door is open throughout
+    const auto task = sim::make_task(config);
+    const ArenaLayout layout;
+    const auto& door = task->arena().walls()[static_cast<std::size_t>(task->arena().door_index())];
+    const double x = (door.x0 + door.x1) / 2, y = (door.y0 + door.y1) / 2;
+    const auto open = draw(*task, true, layout);
+    const auto closed = draw(*task, false, layout);
+    const int px = static_cast<int>(layout.px(x)), py = static_cast<int>(layout.py(y));
+    CHECK(open.at(px, py) == rgb(kFloor));
+    CHECK(closed.at(px, py) == rgb(kDoor));
+}

@@ -1,0 +1,146 @@
+// Every figure renders as a valid, non-blank PNG of the asked size and a
+// well-formed SVG, from data read out of a small run built by the test.
+
+#include <catch2/catch.hpp>
+
+#include <functional>
+
+#include "core/error.hpp"
+#include "db/database.hpp"
+#include "exp/run_store.hpp"
+#include "images.hpp"
+#include "report/arena_figure.hpp"
+#include "report/chart.hpp"
+#include "report/figures.hpp"
+#include "runs.hpp"
+#include "support/temp_dir.hpp"
+
+using namespace stepstone;
+using namespace stepstone::report;
+using reporttest::check_png;
+using reporttest::check_svg;
+
+namespace {
+
+void check_figure(const std::string& name, int width, int height, const std::function<void(Canvas&)>& draw) {
+    CAPTURE(name);
+    Canvas png(width, height, Format::png);
+    draw(png);
+    CHECK(check_png(png.finish(), width, height).empty());
+    Canvas svg(width, height, Format::svg);
+    draw(svg);
+    CHECK(check_svg(svg.finish()).empty());
+}
+
+// a campaign's statistics made by hand: two treatments, three runs each
+exp::CampaignStats hand_stats() {
+    exp::CampaignStats stats;
+    stats.generation = 4;
+    stats.threshold = 0.5;
+    const std::vector<std::vector<double>> curves{{0, 0, 0.25, 0.5, 0.5},   {0, 0.1, 0.1, 0.1, 0.6},
+                                                  {0, 0, 0, 0, 0.2},        {0, 0, 0, 0, 0},
+                                                  {0, 0.05, 0.05, 0.1, 0.1}, {0, 0, 0, 0, 0.05}};
+    for (std::size_t r = 0; r < curves.size(); ++r) {
+        const auto t = r < 3 ? exp::Treatment::sum : exp::Treatment::none;
+        stats.runs.push_back({t, r % 3 + 1, "f", curves[r]});
+    }
+    for (const auto t : {exp::Treatment::sum, exp::Treatment::none}) {
+        exp::TreatmentResult result;
+        result.treatment = t;
+        for (const auto& run : stats.runs) {
+            if (run.treatment == t) result.best.push_back(run.best.back());
+        }
+        result.summary = stats::summarize(result.best);
+        result.successes = stats::count_at_least(result.best, 0.5);
+        stats.treatments.push_back(result);
+    }
+    for (std::size_t g = 0; g <= 4; ++g) {
+        std::vector<std::size_t> row{0, 0};
+        for (std::size_t r = 0; r < curves.size(); ++r) row[r < 3 ? 0 : 1] += curves[r][g] >= 0.5;
+        stats.successes.push_back(row);
+    }
+    return stats;
+}
+
+}  // namespace
+
+TEST_CASE("every figure renders as PNG and SVG from a small run") {
+    test::TempDir dir;
+    reporttest::make_run(dir / "run.db");
+    auto connection = db::open_database(dir / "run.db", db::OpenMode::read_only);
+    const auto run = exp::load_run(connection);
+    const auto generations = load_generations(connection, run.id);
+    REQUIRE(generations.size() == 5);  // generations 0 to 4
+    const auto stored = figure_kb(dir / "run.db", "");
+    REQUIRE(stored.has_value());
+    REQUIRE(stored->kb.size() > 0);
+    const auto trace = trace_policy(dir / "run.db", "best", 0, &stored->kb, stored->name);
+    const ArenaLayout layout;
+
+    check_figure("rewards", kFigureWidth, kFigureHeight, [&](Canvas& c) { draw_run_rewards(c, generations, "r"); });
+    check_figure("histogram", kFigureWidth, kFigureHeight, [&](Canvas& c) { draw_kb_histogram(c, stored->kb, "h"); });
+    check_figure("growth", kFigureWidth, kFigureHeight, [&](Canvas& c) { draw_kb_growth(c, stored->kb, "g"); });
+    check_figure("saliency", kFigureWidth, kFigureHeight, [&](Canvas& c) { draw_saliency_along_time(c, trace); });
+    check_figure("arena", layout.width, layout.height,
+                 [&](Canvas& c) { draw_arena(c, *trace.task, false, "arena", layout); });
+    check_figure("trajectory", layout.width, layout.height,
+                 [&](Canvas& c) { draw_trajectory(c, trace, {}, layout); });
+
+    const auto stats = hand_stats();
+    check_figure("successes", kFigureWidth, kFigureHeight, [&](Canvas& c) { draw_successes(c, stats); });
+    check_figure("best-of-run", kFigureWidth, kFigureHeight, [&](Canvas& c) { draw_best_of_run(c, stats); });
+    check_figure("treatment rewards", kFigureWidth, kFigureHeight,
+                 [&](Canvas& c) { draw_treatment_rewards(c, stats); });
+    // the run's own r_max values are NULL (a source run); give two runs some
+    std::vector<GenerationPoint> shaped = generations;
+    for (std::size_t g = 0; g < shaped.size(); ++g) shaped[g].mean_shaping = 0.1 * static_cast<double>(g);
+    const std::vector<std::vector<std::vector<GenerationPoint>>> series{{shaped, shaped}};
+    const exp::Treatment treatments[] = {exp::Treatment::sum};
+    check_figure("treatment shaping", kFigureWidth, kFigureHeight,
+                 [&](Canvas& c) { draw_treatment_shaping(c, treatments, series); });
+    check_figure("run shaping", kFigureWidth, kFigureHeight, [&](Canvas& c) { draw_run_shaping(c, shaped, "s"); });
+}
+
+TEST_CASE("a figure's file name decides its format, and others are refused") {
+    CHECK(format_of("a/b.png") == Format::png);
+    CHECK(format_of("B.SVG") == Format::svg);
+    CHECK_THROWS_WITH(format_of("plot.jpg"), "plot.jpg: the figure's file name must end in .png or .svg");
+    CHECK_THROWS_AS(format_of("plot"), ConfigError);
+}
+
+TEST_CASE("a histogram's bars are as tall as the counts say") {
+    // three segments: averages 0, 0 and 1 (largest 1): the first bin holds 2,
+    // the last 1, so the first bar is twice the last one's height
+    kb::KbParams params;
+    params.segment_width = 1;
+    params.channels = 1;
+    params.delta = 0.5;
+    kb::KnowledgeBase base(params);
+    const auto source = base.add_source("t");
+    const float values[] = {0.0f, 2.0f, 4.0f};
+    const double rewards[] = {0.0, 0.0, 1.0};
+    for (int i = 0; i < 3; ++i) base.observe(kb::as_segments({&values[i], 1}, 1), rewards[i], {source, 0});
+    Canvas canvas(kFigureWidth, kFigureHeight, Format::png);
+    draw_kb_histogram(canvas, base, "", 4);
+    const auto image = reporttest::decode_png(canvas.finish());
+    // scan the columns in the middle of the first and last bins for the bar colour
+    const auto bar_height = [&](double fraction) {
+        int height = 0;
+        int x = -1;
+        // the plot spans the canvas width minus the margins; find the bins by colour
+        for (int cx = 0; cx < image.width; ++cx) {
+            int h = 0;
+            for (int y = 0; y < image.height; ++y) h += image.at(cx, y) == reporttest::Rgb{0x00, 0x72, 0xB2};
+            if (h > 0 && x < 0 && fraction < 0.5) {
+                x = cx;
+                height = h;
+            }
+            if (h > 0 && fraction > 0.5) height = h;  // the last column with ink
+        }
+        return height;
+    };
+    const int first = bar_height(0.0);
+    const int last = bar_height(1.0);
+    REQUIRE(last > 10);
+    CHECK(std::abs(first - 2 * last) <= 2);
+}
