@@ -115,7 +115,9 @@ struct CalibrateFlags {
     std::string deltas = "0.5,1,1.5,1.83,2,2.5,3,4";
     std::optional<std::size_t> segment_width;
     std::size_t neighbours = 20;
+    unsigned threads = 0;
     bool json = false;
+    bool quiet = false;
 };
 
 void run_calibrate(const CalibrateFlags& flags) {
@@ -124,6 +126,8 @@ void run_calibrate(const CalibrateFlags& flags) {
     options.segment_width = flags.segment_width;
     options.deltas = exp::parse_deltas(flags.deltas);
     options.neighbours = flags.neighbours;
+    options.threads = flags.threads;
+    options.progress = flags.quiet ? ProgressMode::quiet : ProgressMode::automatic;
     if (options.neighbours == 0) throw ConfigError("--neighbours must be >= 1, got 0");
     const auto result = exp::calibrate_run(flags.run, options);
     const auto& c = result.calibration;
@@ -170,7 +174,10 @@ void add_calibrate(CLI::App& kb_cmd) {
     cmd->add_option("--segment-width", flags->segment_width,
                     "Steps per segment (default: the run's knowledge base's, else 20)");
     cmd->add_option("--neighbours", flags->neighbours, "Nearest segments averaged by the rule (default: 20)");
+    cmd->add_option("--threads", flags->threads,
+                    "Replays and size-table KBs at once (default: all cores); results do not depend on it");
     cmd->add_flag("--json", flags->json, "Print JSON instead of text");
+    cmd->add_flag("--quiet", flags->quiet, "No progress on stderr");
     cmd->footer(example({"stepstone kb calibrate run.db --individual best",
                          "stepstone kb calibrate run.db --deltas 0.5,1,1.83,2.5 --segment-width 20 --json"}));
     cmd->callback([flags] { run_calibrate(*flags); });

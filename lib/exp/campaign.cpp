@@ -507,8 +507,9 @@ std::vector<PlannedRun> plan_runs(const CampaignConfig& config) {
             runs.push_back({"source", Treatment::none, seed, "source/" + seed_file(seed), config.source->generations});
         }
     }
-    for (Treatment t : config.treatments) {
-        for (std::uint64_t seed : config.target.seeds) {
+    // seed-major: an interrupted campaign leaves every treatment with as many finished runs
+    for (std::uint64_t seed : config.target.seeds) {
+        for (Treatment t : config.treatments) {
             runs.push_back({"target", t, seed, concat("target/", to_string(t), "/", seed_file(seed)),
                             config.target.generations});
         }

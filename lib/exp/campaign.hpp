@@ -73,7 +73,8 @@ struct PlannedRun {
 };
 
 /// Every run of the campaign in order: source runs by seed, then target runs
-/// by treatment (config order) then seed.
+/// by seed then treatment (config order), so that an interrupted campaign has
+/// as many finished runs in every treatment (give or take one).
 std::vector<PlannedRun> plan_runs(const CampaignConfig& config);
 
 /// The campaign's cost, as printed by --dry-run.

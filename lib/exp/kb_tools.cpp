@@ -13,9 +13,13 @@
 #include "db/database.hpp"
 #include "db/kb_store.hpp"
 #include "evo/pareto.hpp"
+#include "exp/evaluation.hpp"
+#include "exp/evolve_config.hpp"
 #include "exp/replay.hpp"
 #include "exp/run_store.hpp"
 #include "kb/segments.hpp"
+#include "nn/genome.hpp"
+#include "sim/task.hpp"
 #include "sim/sensors.hpp"
 
 namespace stepstone::exp {
@@ -251,21 +255,20 @@ Calibration calibrate_behaviours(std::span<const float> policy, std::span<const 
 }
 
 RunCalibration calibrate_run(const fs::path& run_db, const CalibrateOptions& options) {
+    if (options.batch == 0) throw ConfigError("calibrate: the batch must hold at least one policy");
     RunCalibration out;
     std::size_t width = 20;
     out.width_from = "default";
     std::vector<std::int64_t> ids;
-    {
-        auto connection = db::open_database(run_db, db::OpenMode::read_only);
-        const RunRecord run = load_run(connection);
-        for (const auto& summary : db::list_kbs(connection)) {
-            if (summary.name == kRunKbName) {
-                width = summary.params.segment_width;
-                out.width_from = "the run's knowledge base";
-            }
+    auto connection = db::open_database(run_db, db::OpenMode::read_only);
+    const RunRecord run = load_run(connection);
+    for (const auto& summary : db::list_kbs(connection)) {
+        if (summary.name == kRunKbName) {
+            width = summary.params.segment_width;
+            out.width_from = "the run's knowledge base";
         }
-        ids = stored_individuals(connection, run.id);
     }
+    ids = stored_individuals(connection, run.id);
     if (options.segment_width) {
         if (*options.segment_width == 0) throw ConfigError("--segment-width must be >= 1, got 0");
         width = *options.segment_width;
@@ -281,12 +284,49 @@ RunCalibration calibrate_run(const fs::path& run_db, const CalibrateOptions& opt
         throw ConfigError(concat("--segment-width ", width, " exceeds the ", best.size() / channels,
                                  " steps of the behaviours of ", file_name(run_db)));
     }
-    std::vector<std::vector<float>> behaviours;
-    if (!options.deltas.empty()) {
-        for (std::int64_t id : ids) behaviours.push_back(replay_behaviour(run_db, std::to_string(id)));
+    out.calibration = calibrate_behaviours(best, {}, channels, width, {}, options.neighbours);
+    if (options.deltas.empty()) return out;
+
+    // the size table: one KB per delta, fed batch by batch in id order
+    EvolveConfig config = EvolveConfig::from_json(run.config, file_name(run_db) + " (stored config)");
+    config.task.starts = 1;  // the behaviour is the first start's, which later starts do not change
+    const auto task = sim::make_task(config.task);
+    std::vector<kb::KnowledgeBase> kbs;
+    for (const double delta : options.deltas) {
+        kb::KbParams params;
+        params.segment_width = width;
+        params.channels = channels;
+        params.delta = delta;
+        kbs.emplace_back(params);
+        kbs.back().add_source("calibrate");
     }
-    out.calibration =
-        calibrate_behaviours(best, behaviours, channels, width, options.deltas, options.neighbours);
+    const std::size_t size = task->behaviour_size();
+    Progress progress("policy", ids.size(), options.progress);
+    std::vector<nn::Genome> genomes;
+    std::vector<float> behaviours;
+    for (std::size_t start = 0; start < ids.size(); start += options.batch) {
+        const std::size_t n = std::min(options.batch, ids.size() - start);
+        genomes.clear();
+        for (std::size_t k = 0; k < n; ++k)
+            genomes.push_back(nn::Genome::from_json(load_genome(connection, run.id, ids[start + k]).genome));
+        behaviours.assign(n * size, 0.0f);
+        parallel_for(n, options.threads, [&](std::size_t k) {
+            evaluate_genome(*task, genomes[k], config.dnn, std::span<float>(behaviours.data() + k * size, size));
+        });
+        std::vector<kb::Segments> segments;
+        for (std::size_t k = 0; k < n; ++k)
+            segments.push_back(kb::segment_behaviour(std::span<const float>(behaviours.data() + k * size, size),
+                                                     channels, width));
+        parallel_for(kbs.size(), options.threads, [&](std::size_t d) {
+            for (const auto& policy : segments) kbs[d].observe(policy, 0.0, kb::Origin{0, 0});
+        });
+        std::string status = "KB sizes";
+        for (std::size_t d = 0; d < kbs.size(); ++d) status += concat(' ', options.deltas[d], ':', kbs[d].size());
+        progress.update(start + n, status);
+    }
+    progress.finish();
+    out.calibration.policies = ids.size();
+    for (std::size_t d = 0; d < kbs.size(); ++d) out.calibration.sizes.push_back({options.deltas[d], kbs[d].size()});
     return out;
 }
 

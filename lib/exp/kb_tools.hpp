@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "core/progress.hpp"
 #include "kb/calibrate.hpp"
 #include "kb/knowledge_base.hpp"
 
@@ -82,10 +83,17 @@ struct CalibrateOptions {
     std::optional<std::size_t> segment_width;  ///< absent: the run KB's, else 20
     std::vector<double> deltas;                ///< the size table's deltas (empty: no table)
     std::size_t neighbours = 20;
+    unsigned threads = 0;                      ///< replays and KBs at once (0 = every core)
+    std::size_t batch = 256;                   ///< policies replayed per batch (bounds memory)
+    ProgressMode progress = ProgressMode::quiet;  ///< policies replayed, on stderr
 };
 
 /// calibrate_behaviours on a run: the replayed behaviour of `individual` and
-/// of every stored genome (in individual id order).
+/// of every stored genome (in individual id order). The genomes are replayed
+/// `batch` at a time on `threads` threads (first start only: the behaviour
+/// is the first start's), then each batch is observed, in id order, into one
+/// KB per delta, the KBs side by side on the same threads; the sizes do not
+/// depend on `threads` or `batch`.
 struct RunCalibration {
     std::int64_t individual_id = 0;  ///< the calibrating policy
     double reward = 0.0;             ///< its stored reward

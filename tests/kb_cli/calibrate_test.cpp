@@ -101,3 +101,42 @@ TEST_CASE("kb calibrate on a run uses the replayed best policy and the run's sto
     CHECK_THAT(result.out, Contains("segments        10 of 15 channels"));
     CHECK_THAT(result.out, Contains("KB size over the"));
 }
+
+TEST_CASE("kb calibrate's size table does not depend on threads or batch size", "[kb_cli][calibrate]") {
+    test::TempDir dir;
+    kbtest::make_run(dir / "run.db");
+    const auto run = dir / "run.db";
+    exp::CalibrateOptions options;
+    options.deltas = {0.25, 1, 4};
+
+    // oracle: one replay per stored genome (all starts), observed in id order by kb_sizes
+    std::vector<kb::Segments> segments;
+    std::vector<std::vector<float>> behaviours;
+    {
+        auto connection = db::open_database(run, db::OpenMode::read_only);
+        auto select = connection.prepare("SELECT individual_id FROM genome ORDER BY individual_id");
+        while (select.step())
+            behaviours.push_back(exp::replay_behaviour(run, std::to_string(select.column_int(0))));
+    }
+    REQUIRE(behaviours.size() >= 4);  // so that a batch of 3 splits them
+    for (const auto& b : behaviours)
+        segments.push_back(kb::segment_behaviour(b, static_cast<std::size_t>(sim::kChannels), kbtest::kRunWidth));
+    kb::KbParams params;
+    params.segment_width = kbtest::kRunWidth;
+    const auto expected = kb::kb_sizes(params, segments, options.deltas);
+
+    for (const auto& [threads, batch] : {std::pair{1u, std::size_t{1}}, std::pair{2u, std::size_t{3}},
+                                         std::pair{4u, std::size_t{256}}}) {
+        options.threads = threads;
+        options.batch = batch;
+        const auto result = exp::calibrate_run(run, options);
+        CHECK(result.calibration.policies == behaviours.size());
+        REQUIRE(result.calibration.sizes.size() == expected.size());
+        for (std::size_t i = 0; i < expected.size(); ++i) {
+            CHECK(result.calibration.sizes[i].delta == expected[i].delta);
+            CHECK(result.calibration.sizes[i].size == expected[i].size);
+        }
+    }
+    options.batch = 0;
+    CHECK_THROWS_AS(exp::calibrate_run(run, options), ConfigError);
+}
