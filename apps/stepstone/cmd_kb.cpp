@@ -33,6 +33,7 @@ struct ExportFlags {
     std::string run;
     std::string out;
     std::string name = exp::kRunKbName;
+    std::optional<double> delta;
     bool force = false;
 };
 
@@ -42,10 +43,14 @@ void add_export(CLI::App& kb_cmd) {
     cmd->add_option("run", flags->run, "Run database (opened read-only)")->required();
     cmd->add_option("--out", flags->out, "New KB file (written atomically)")->required();
     cmd->add_option("--name", flags->name, "Name of the KB in the run file (default: run)");
+    cmd->add_option("--delta", flags->delta,
+                    "Coarsen: re-observe the KB's segments under this larger delta (a smaller KB)");
     cmd->add_flag("--force", flags->force, "Overwrite an existing --out file");
-    cmd->footer(example({"stepstone kb export run.db --out kb.db"}));
+    cmd->footer(example({"stepstone kb export run.db --out kb.db",
+                         "stepstone kb export run.db --out kb-coarse.db --delta 4"}));
     cmd->callback([flags] {
-        print_written(flags->out, exp::export_kb(flags->run, flags->name, flags->out, flags->force));
+        print_written(flags->out,
+                      exp::export_kb(flags->run, flags->name, flags->out, flags->force, flags->delta));
     });
 }
 

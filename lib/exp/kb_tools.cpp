@@ -170,11 +170,21 @@ std::string optional_seed_text(const std::optional<std::uint64_t>& seed) {
 
 // ------------------------------------------------------------ export, merge, randomize
 
-KbWritten export_kb(const fs::path& run_db, const std::string& name, const fs::path& out, bool force) {
+KbWritten export_kb(const fs::path& run_db, const std::string& name, const fs::path& out, bool force,
+                    std::optional<double> delta) {
     db::check_output_path(out, force);
     const auto stored = load_kb_file(run_db, name);
-    write_kb_file(out, force, stored.name, stored.kb, stored.randomized_seed);
-    return written(stored.name, stored.kb, stored.randomized_seed);
+    if (!delta) {
+        write_kb_file(out, force, stored.name, stored.kb, stored.randomized_seed);
+        return written(stored.name, stored.kb, stored.randomized_seed);
+    }
+    if (stored.randomized_seed) {
+        throw DataError(concat(file_name(run_db), ": \"", stored.name,
+                               "\" is randomized; coarsen the real KB, then randomize it"));
+    }
+    const kb::KnowledgeBase coarse = stored.kb.coarsened(*delta);
+    write_kb_file(out, force, stored.name, coarse, std::nullopt);
+    return written(stored.name, coarse, std::nullopt);
 }
 
 KbWritten merge_kb_files(std::span<const fs::path> inputs, const fs::path& out, const std::string& name,

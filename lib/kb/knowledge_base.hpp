@@ -158,6 +158,16 @@ public:
     /// then unchanged.
     void merge(const KnowledgeBase& other);
 
+    /// The KB re-observed under a larger threshold: a new KB with delta
+    /// `delta` into which this KB's segments are observed in id order,
+    /// carrying their statistics, as merge() does (its sources are copied).
+    /// Every segment this KB credited was within the old delta of a kept one,
+    /// so it would have been credited under the new delta too; the result is
+    /// what this KB's segments give, not what re-observing the policies would
+    /// (a policy segment now falls to the nearest kept representative).
+    /// Throws ConfigError if `delta` is not finite or below this KB's delta.
+    KnowledgeBase coarsened(double delta) const;
+
     /// A copy with the same segments, sources and provenance whose averages are
     /// drawn from U[0, 1): segment i (in id order) gets the i-th draw u of
     /// Rng(seed, 0, 0, Purpose::kb_randomize), and its record becomes
@@ -180,6 +190,8 @@ private:
     // (within delta, more than one segment), which checks finiteness itself
     bool batched(Segments segments) const;
     std::vector<SegmentMatch> matches_of(Segments segments) const;
+    // merge() without the parameter check
+    void absorb(const KnowledgeBase& other);
 
     KbParams params_;
     detail::HugeVector<float> values_;

@@ -2,6 +2,7 @@
 // a KB out of others (kb merge, kb randomize).
 
 #include <algorithm>
+#include <cmath>
 #include <vector>
 
 #include "core/error.hpp"
@@ -34,9 +35,25 @@ void KnowledgeBase::merge(const KnowledgeBase& other) {
     check_compatible(params_, other.params_);
     if (&other == this) {
         const KnowledgeBase copy(other);
-        merge(copy);
+        absorb(copy);
         return;
     }
+    absorb(other);
+}
+
+KnowledgeBase KnowledgeBase::coarsened(double delta) const {
+    if (!std::isfinite(delta) || delta < params_.delta) {
+        throw ConfigError(concat("a coarser delta must be finite and at least the KB's ", shortest(params_.delta),
+                                 ", got ", shortest(delta)));
+    }
+    KbParams params = params_;
+    params.delta = delta;
+    KnowledgeBase out(params);
+    out.absorb(*this);
+    return out;
+}
+
+void KnowledgeBase::absorb(const KnowledgeBase& other) {
 
     // sources: same run name, same source; the others are appended
     std::vector<std::uint32_t> source_map(other.sources_.size());

@@ -1,5 +1,6 @@
 #include <catch2/catch.hpp>
 
+#include <limits>
 #include <vector>
 
 #include "core/error.hpp"
@@ -170,4 +171,34 @@ TEST_CASE("a KB merged with itself doubles its statistics", "[kb][merge]") {
     CHECK(a.record(1).count == 2);
     CHECK(a.sources().size() == 1);
     CHECK(a.sources()[0].policies == 20);
+}
+
+TEST_CASE("coarsening re-observes the segments in id order under the larger delta", "[kb][merge][coarsen]") {
+    // one channel, width 1, delta 1: 0, 1.5, 3, 10 are more than 1 apart
+    const auto p = params_of(1, 1, 1.0);
+    const auto kb = from_values(p, "run", {0.0f, 1.5f, 3.0f, 10.0f},
+                                {{0.5, 2, {0, 1}, {0, 3}}, {0.25, 1, {0, 2}, {0, 2}},
+                                 {1.0, 4, {0, 4}, {0, 6}}, {0.0, 1, {0, 5}, {0, 5}}});
+    // delta 2 by hand: 0 inserted; 1.5 is 1.5 < 2 from 0: credited; 3 is 3 from 0 (nearest): inserted; 10 inserted
+    const auto coarse = kb.coarsened(2.0);
+    CHECK(coarse.params().delta == 2.0);
+    REQUIRE(coarse.size() == 3);
+    CHECK(coarse.segment(1)[0] == 3.0f);
+    CHECK(coarse.record(0).cum_reward == 0.75);
+    CHECK(coarse.record(0).count == 3);
+    CHECK(coarse.record(0).last.generation == 2);  // the absorbed segment's last origin
+    CHECK(coarse.record(1).count == 4);
+    REQUIRE(coarse.sources().size() == 1);
+    CHECK(coarse.sources()[0].run == "run");
+    CHECK(coarse.sources()[0].policies == 10);
+    // delta 3.5: 0 takes 1.5 and 3 (3 < 3.5); 10 stays apart
+    const auto coarser = kb.coarsened(3.5);
+    REQUIRE(coarser.size() == 2);
+    CHECK(coarser.record(0).cum_reward == 1.75);
+    CHECK(coarser.record(0).count == 7);
+    // the same delta keeps every segment; a smaller or non-finite one is refused
+    CHECK(kb.coarsened(1.0).size() == 4);
+    CHECK_THROWS_AS(kb.coarsened(0.5), ConfigError);
+    CHECK_THROWS_WITH(kb.coarsened(0.5), Contains("at least the KB's 1"));
+    CHECK_THROWS_AS(kb.coarsened(std::numeric_limits<double>::quiet_NaN()), ConfigError);
 }

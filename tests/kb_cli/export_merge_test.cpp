@@ -136,3 +136,37 @@ TEST_CASE("kb merge refuses KBs of another delta or channel count, naming both f
     CHECK_THAT(result.err, Contains("three.db") && Contains("channels is 3") && Contains("2 in a.db"));
     CHECK(kbtest::files_in(dir.path()) == before);  // no output, no temporary file
 }
+
+TEST_CASE("kb export --delta writes the run's KB coarsened under the larger delta", "[kb_cli][export][coarsen]") {
+    test::TempDir dir;
+    kbtest::make_run(dir / "run.db");
+    auto result = test::run_cli(
+        {"kb", "export", (dir / "run.db").string(), "--out", (dir / "coarse.db").string(), "--delta", "3"});
+    REQUIRE(result.exit_code == 0);
+    CHECK_THAT(result.out, Contains("delta 3"));
+    auto run = db::open_database(dir / "run.db", db::OpenMode::read_only);
+    auto file = db::open_database(dir / "coarse.db", db::OpenMode::read_only);
+    const auto from_run = db::load_kb(run, "run");
+    const auto coarse = db::load_kb(file);
+    const auto expected = from_run.kb.coarsened(3.0);
+    CHECK(coarse.kb.params().delta == 3.0);
+    REQUIRE(coarse.kb.size() == expected.size());
+    CHECK(coarse.kb.size() < from_run.kb.size());
+    std::uint64_t count = 0;
+    for (std::size_t i = 0; i < coarse.kb.size(); ++i) {
+        CHECK(coarse.kb.record(i).cum_reward == expected.record(i).cum_reward);
+        count += coarse.kb.record(i).count;
+    }
+    std::uint64_t run_count = 0;
+    for (std::size_t i = 0; i < from_run.kb.size(); ++i) run_count += from_run.kb.record(i).count;
+    CHECK(count == run_count);  // observations are moved, never lost
+
+    // a delta below the run's (1.0) is a usage error and writes nothing
+    const auto before = kbtest::files_in(dir.path());
+    result = test::run_cli(
+        {"kb", "export", (dir / "run.db").string(), "--out", (dir / "fine.db").string(), "--delta", "0.5"});
+    CHECK(result.exit_code == 2);
+    REQUIRE(result.err_lines().size() == 1);
+    CHECK_THAT(result.err, Contains("at least the KB's 1"));
+    CHECK(kbtest::files_in(dir.path()) == before);
+}
