@@ -11,6 +11,7 @@
 #include "exp/campaign.hpp"
 #include "exp/campaign_stats.hpp"
 #include "exp/replay.hpp"
+#include "report/report.hpp"
 
 namespace stepstone::app {
 
@@ -68,11 +69,21 @@ void run_demo(const DemoFlags& flags) {
     exp::write_text(std::cout, exp::campaign_stats(camp, std::nullopt, 0.5));
     std::cout << "   query the runs with SQL: sqlite3 " << (camp / "campaign.db").string()
               << " 'SELECT file, best_reward FROM campaign_run'" << std::endl;
+
+    // 5. the report: every figure of the paper for this campaign, in one page
+    report::ReportOptions report_options;
+    report_options.input = camp;
+    report_options.out = dir / "report";
+    report_options.force = true;  // a rerun of the demo refreshes its report
+    report_options.progress = options.progress;
+    const auto report = report::write_report(report_options);
+    std::cout << "== report: " << report.files.size() << " files\n"
+              << "   open " << fs::absolute(report.index).lexically_normal().string() << std::endl;
 }
 
 void add_demo_command(CLI::App& app) {
     auto flags = std::make_shared<DemoFlags>();
-    auto* demo = app.add_subcommand("demo", "Run the main job end to end on small settings: a quick campaign and its statistics");
+    auto* demo = app.add_subcommand("demo", "Run the main job end to end on small settings: a quick campaign, its statistics and its HTML report");
     demo->add_option("--dir", flags->dir, "Output folder (default: demo-out)");
     demo->add_option("--examples", flags->examples, "Folder holding the example configs (default: examples)");
     demo->add_option("--jobs", flags->jobs, "Runs at a time (default: every core)");

@@ -25,6 +25,9 @@ void add_builtin_cases([[maybe_unused]] Registry& registry) {
 #if STEPSTONE_HAVE_EXP
     add_evolve_cases(registry);
 #endif
+#if STEPSTONE_HAVE_REPORT
+    add_render_cases(registry);
+#endif
 }
 
 }  // namespace stepstone::bench

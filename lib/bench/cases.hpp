@@ -36,4 +36,9 @@ void add_diversity_cases(Registry& registry);
 void add_evolve_cases(Registry& registry);
 #endif
 
+#if STEPSTONE_HAVE_REPORT
+/// `render`: a trajectory figure with KB lookups vs replaying the policy.
+void add_render_cases(Registry& registry);
+#endif
+
 }  // namespace stepstone::bench

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
 
 #include "core/error.hpp"
 #include "core/text.hpp"
@@ -108,6 +109,54 @@ void draw_legend(Canvas& canvas, const ArenaLayout& layout, double y) {
     });
 }
 
+// a trajectory circle: filled, with a thin grey outline so white ones show on the floor
+void draw_circle(cairo_t* cr, double x, double y, double r, Colour fill) {
+    disc(cr, x, y, r);
+    cairo_set_source_rgb(cr, fill.r, fill.g, fill.b);
+    cairo_fill_preserve(cr);
+    cairo_set_source_rgb(cr, kOutline.r, kOutline.g, kOutline.b);
+    cairo_set_line_width(cr, 0.6);
+    cairo_stroke(cr);
+}
+
+// Raster trajectories draw thousands of identical small circles: each fill
+// colour is drawn once into a small surface (an odd number of pixels wide, the
+// circle centred in its middle pixel) and stamped at the pixel holding each
+// centre, about ten times faster than rasterising every circle. The centre
+// moves by at most half a pixel; the SVG output draws exact circles.
+class CircleStamps {
+public:
+    explicit CircleStamps(double radius) : radius_(radius), half_(static_cast<int>(std::ceil(radius + 1.0))) {}
+    ~CircleStamps() {
+        for (auto& [key, surface] : stamps_) cairo_surface_destroy(surface);
+    }
+    CircleStamps(const CircleStamps&) = delete;
+    CircleStamps& operator=(const CircleStamps&) = delete;
+
+    void stamp(cairo_t* cr, double x, double y, Colour fill) {
+        const auto byte = [](double v) { return static_cast<std::uint32_t>(std::lround(std::clamp(v, 0.0, 1.0) * 255)); };
+        const std::uint32_t key = byte(fill.r) << 16 | byte(fill.g) << 8 | byte(fill.b);
+        auto it = stamps_.find(key);
+        if (it == stamps_.end()) {
+            const int size = 2 * half_ + 1;
+            cairo_surface_t* surface = cairo_image_surface_create(CAIRO_FORMAT_ARGB32, size, size);
+            cairo_t* s = cairo_create(surface);
+            draw_circle(s, half_ + 0.5, half_ + 0.5, radius_,
+                        {static_cast<double>(key >> 16) / 255.0, static_cast<double>((key >> 8) & 0xff) / 255.0,
+                         static_cast<double>(key & 0xff) / 255.0});
+            cairo_destroy(s);
+            it = stamps_.emplace(key, surface).first;
+        }
+        cairo_set_source_surface(cr, it->second, std::floor(x) - half_, std::floor(y) - half_);
+        cairo_paint(cr);
+    }
+
+private:
+    double radius_;
+    int half_;
+    std::map<std::uint32_t, cairo_surface_t*> stamps_;
+};
+
 }  // namespace
 
 void draw_arena(Canvas& canvas, const sim::Task& task, bool door_open, const std::string& title,
@@ -192,30 +241,30 @@ void draw_trajectory(Canvas& canvas, const Trace& trace, const TrajectoryOptions
     cairo_t* cr = canvas.cr();
 
     const double r = options.circle_radius * layout.scale;
+    CircleStamps stamps(r);
     for (int i = first; i < last; ++i) {
         const auto& step = trace.steps[static_cast<std::size_t>(i)];
         const auto match = trace.match_at(step.step);
         const double x = layout.px(step.x), y = layout.py(step.y);
-        disc(cr, x, y, r);
-        canvas.set_colour(circle_colour(match, trace.max_average));
-        cairo_fill_preserve(cr);
-        canvas.set_colour(kOutline);
-        cairo_set_line_width(cr, 0.6);
-        cairo_stroke(cr);
-        if (canvas.format() == Format::svg) {
-            std::string note = concat("step ", step.step);
-            if (match) {
-                note += concat(", segment ", static_cast<std::size_t>(step.step) / trace.segment_width);
-                if (match->id) {
-                    note += concat(", KB segment ", *match->id, ", distance ", fixed(match->distance, 3),
-                                   ", average reward ", fixed(match->average_reward, 4));
-                } else {
-                    note += ", no KB segment within delta";
-                }
-            }
-            if (step.carrying) note += ", carrying";
-            canvas.hover(x, y, r, note);
+        const Colour fill = circle_colour(match, trace.max_average);
+        if (canvas.format() == Format::png) {
+            stamps.stamp(cr, x, y, fill);
+            continue;
         }
+        draw_circle(cr, x, y, r, fill);
+        // SVG: the exact circle, with its facts on hover
+        std::string note = concat("step ", step.step);
+        if (match) {
+            note += concat(", segment ", static_cast<std::size_t>(step.step) / trace.segment_width);
+            if (match->id) {
+                note += concat(", KB segment ", *match->id, ", distance ", fixed(match->distance, 3),
+                               ", average reward ", fixed(match->average_reward, 4));
+            } else {
+                note += ", no KB segment within delta";
+            }
+        }
+        if (step.carrying) note += ", carrying";
+        canvas.hover(x, y, r, note);
     }
     // heading marks over the circles: a tick beyond the circle along the heading
     if (options.heading_every > 0) {

@@ -4,11 +4,13 @@
 
 #include <cairo-svg.h>
 #include <cairo.h>
+#include <png.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
+#include <vector>
 
 #include "core/error.hpp"
 #include "core/output_file.hpp"
@@ -33,6 +35,54 @@ std::string number(double value) {
     char text[32];
     std::snprintf(text, sizeof text, "%.2f", value);
     return text;
+}
+
+// PNG of an opaque ARGB32 cairo surface, through libpng: RGB rows, zlib level
+// 3 and the "sub" filter, several times faster than cairo's own writer (level
+// 6, every filter tried) for a file a few percent larger
+std::string encode_png(cairo_surface_t* surface) {
+    cairo_surface_flush(surface);
+    const int width = cairo_image_surface_get_width(surface);
+    const int height = cairo_image_surface_get_height(surface);
+    const int stride = cairo_image_surface_get_stride(surface);
+    const unsigned char* data = cairo_image_surface_get_data(surface);
+    std::string out;
+    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+    png_infop info = png ? png_create_info_struct(png) : nullptr;
+    if (info == nullptr) {
+        png_destroy_write_struct(&png, nullptr);
+        throw Error("libpng: out of memory");
+    }
+    std::vector<unsigned char> row(static_cast<std::size_t>(width) * 3);
+    if (setjmp(png_jmpbuf(png))) {
+        png_destroy_write_struct(&png, &info);
+        throw Error("libpng: could not encode the figure");
+    }
+    png_set_write_fn(
+        png, &out,
+        [](png_structp p, png_bytep bytes, png_size_t length) {
+            static_cast<std::string*>(png_get_io_ptr(p))->append(reinterpret_cast<const char*>(bytes), length);
+        },
+        nullptr);
+    png_set_IHDR(png, info, static_cast<png_uint_32>(width), static_cast<png_uint_32>(height), 8, PNG_COLOR_TYPE_RGB,
+                 PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+    png_set_compression_level(png, 3);
+    png_set_filter(png, PNG_FILTER_TYPE_BASE, PNG_FILTER_SUB);
+    png_write_info(png, info);
+    for (int y = 0; y < height; ++y) {
+        const auto* pixels = reinterpret_cast<const std::uint32_t*>(data + static_cast<std::ptrdiff_t>(y) * stride);
+        for (int x = 0; x < width; ++x) {
+            // every figure paints an opaque background, so no unpremultiplying
+            const std::uint32_t p = pixels[x];
+            row[static_cast<std::size_t>(x) * 3] = static_cast<unsigned char>(p >> 16);
+            row[static_cast<std::size_t>(x) * 3 + 1] = static_cast<unsigned char>(p >> 8);
+            row[static_cast<std::size_t>(x) * 3 + 2] = static_cast<unsigned char>(p);
+        }
+        png_write_row(png, row.data());
+    }
+    png_write_end(png, nullptr);
+    png_destroy_write_struct(&png, &info);
+    return out;
 }
 
 }  // namespace
@@ -65,7 +115,7 @@ std::string xml_escape(std::string_view text) {
 Canvas::Canvas(int width, int height, Format format) : width_(width), height_(height), format_(format) {
     if (width < 1 || height < 1) throw std::invalid_argument("Canvas: empty size");
     if (format == Format::png) {
-        surface_ = cairo_image_surface_create(CAIRO_FORMAT_ARGB32, width, height);
+        surface_ = cairo_image_surface_create(CAIRO_FORMAT_RGB24, width, height);
     } else {
         surface_ = cairo_svg_surface_create_for_stream(append_bytes, &svg_, width, height);
         cairo_svg_surface_set_document_unit(surface_, CAIRO_SVG_UNIT_PX);
@@ -128,11 +178,7 @@ std::string Canvas::finish() {
     if (finished_) throw std::logic_error("Canvas::finish called twice");
     finished_ = true;
     check(cairo_status(cr_), "drawing");
-    if (format_ == Format::png) {
-        std::string png;
-        check(cairo_surface_write_to_png_stream(surface_, append_bytes, &png), "writing PNG");
-        return png;
-    }
+    if (format_ == Format::png) return encode_png(surface_);
     cairo_destroy(cr_);
     cr_ = nullptr;
     cairo_surface_finish(surface_);

@@ -41,7 +41,7 @@ Colour treatment_colour(exp::Treatment treatment) {
 
 void draw_run_rewards(Canvas& canvas, std::span<const GenerationPoint> generations, const std::string& title) {
     Curve best{"best", kBlue, {}, {}, {}, {}, false, false};
-    Curve median{"median", kVermillion, {}, {}, {}, {}, true, false};
+    Curve median{"median", kVermillion, {}, {}, {}, {}, false, false};
     for (const auto& g : generations) {
         best.x.push_back(g.generation);
         best.y.push_back(g.best);

@@ -98,7 +98,7 @@ void run_report(const ReportOptions& options, const fs::path& dir, ReportSummary
     const auto config = exp::EvolveConfig::from_json(run.config, options.input.filename().string() + " (stored config)");
     const auto task = sim::make_task(config.task);
     const std::string file = options.input.filename().string();
-    Progress progress("report", 6, options.progress);
+    Progress progress("report", 5, options.progress);
 
     Page page(dir, concat("stepstone report: ", file));
     page.paragraph(concat("A ", xml_escape(run.task), "-task run, treatment <b>", xml_escape(run.treatment),

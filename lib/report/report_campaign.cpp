@@ -185,7 +185,7 @@ void campaign_report(const ReportOptions& options, const fs::path& dir, ReportSu
     auto connection = db::open_database(campaign_dir / "campaign.db", db::OpenMode::read_only);
     const auto runs = load_runs(connection);
     const auto kbs = load_kbs(connection);
-    Progress progress("report", 5, options.progress);
+    Progress progress("report", 4, options.progress);
     Page page(dir, concat("stepstone report: campaign ", campaign_dir.filename().string()));
 
     std::size_t finished = 0;

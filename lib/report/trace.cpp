@@ -20,37 +20,32 @@ std::optional<kb::SegmentMatch> Trace::match_at(int step) const {
     return segments[index];
 }
 
-Trace trace_policy(const std::filesystem::path& run_db, const std::string& individual, int start,
-                   const kb::KnowledgeBase* kb, const std::string& kb_name) {
-    auto setup = exp::prepare_replay(run_db, individual);
-    const auto& config = setup.task->config();
+Trace trace_episode(const std::shared_ptr<const sim::Task>& task, const EpisodeRunner& run, int start,
+                    const kb::KnowledgeBase* kb, const std::string& kb_name, const std::string& what) {
+    const auto& config = task->config();
     if (start < 0 || start >= config.starts) {
         throw ConfigError(concat("--start must be within 1 to ", config.starts, " (the run's starts), got ", start + 1));
     }
     constexpr auto channels = static_cast<std::size_t>(sim::kChannels);
     Trace trace;
     trace.start = start;
-    trace.task = setup.task;
+    trace.task = task;
     trace.steps.reserve(static_cast<std::size_t>(config.steps_per_start));
-    trace.behaviour.reserve(setup.task->behaviour_size());
-    const auto result = setup.run([&](const sim::StepView& view) {
+    trace.behaviour.reserve(task->behaviour_size());
+    const auto result = run([&](const sim::StepView& view) {
         if (view.start != start) return;
         trace.steps.push_back({view.step, view.pose.x, view.pose.y, view.pose.heading, view.carrying, view.door_open});
         trace.behaviour.insert(trace.behaviour.end(), view.inputs, view.inputs + sim::kInputs);
         trace.behaviour.insert(trace.behaviour.end(), view.outputs, view.outputs + sim::kOutputs);
     });
     if (trace.steps.empty()) {
-        throw DataError(concat(run_db.filename().string(), ": individual ", setup.replay.individual_id,
-                               " stood still too long (stand-still rule) before start ", start + 1));
+        throw DataError(concat(what, " stood still too long (stand-still rule) before start ", start + 1));
     }
     // after an early stop the rows repeat the last one, as in a recorded behaviour
-    while (trace.behaviour.size() < setup.task->behaviour_size()) {
+    while (trace.behaviour.size() < task->behaviour_size()) {
         trace.behaviour.insert(trace.behaviour.end(), trace.behaviour.end() - static_cast<long>(channels),
                                trace.behaviour.end());
     }
-    trace.individual_id = setup.replay.individual_id;
-    trace.generation = setup.replay.generation;
-    trace.stored_reward = setup.replay.stored_reward;
     trace.reward = result.reward;
     trace.balls = result.balls;
     if (kb != nullptr) {
@@ -70,6 +65,18 @@ Trace trace_policy(const std::filesystem::path& run_db, const std::string& indiv
         trace.r_max = lookup.r_max;
         trace.segments = lookup.segments;
     }
+    return trace;
+}
+
+Trace trace_policy(const std::filesystem::path& run_db, const std::string& individual, int start,
+                   const kb::KnowledgeBase* kb, const std::string& kb_name) {
+    auto setup = exp::prepare_replay(run_db, individual);
+    auto trace = trace_episode(
+        setup.task, [&](const auto& observer) { return setup.run(observer); }, start, kb, kb_name,
+        concat(run_db.filename().string(), ": individual ", setup.replay.individual_id));
+    trace.individual_id = setup.replay.individual_id;
+    trace.generation = setup.replay.generation;
+    trace.stored_reward = setup.replay.stored_reward;
     return trace;
 }
 

@@ -2,12 +2,15 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "db/kb_store.hpp"
 #include "kb/knowledge_base.hpp"
+#include "sim/episode.hpp"
 #include "sim/task.hpp"
 
 namespace stepstone::report {
@@ -55,6 +58,15 @@ struct Trace {
 /// unusable file.
 Trace trace_policy(const std::filesystem::path& run_db, const std::string& individual, int start,
                    const kb::KnowledgeBase* kb, const std::string& kb_name = "");
+
+/// Runs one evaluation: calls the observer after every step, returns the result.
+using EpisodeRunner = std::function<sim::EpisodeResult(const std::function<void(const sim::StepView&)>&)>;
+
+/// The core of trace_policy for any controller: `run` evaluates it on `task`.
+/// `what` names the policy in errors. The replay facts (individual, rewards
+/// stored) are left for the caller.
+Trace trace_episode(const std::shared_ptr<const sim::Task>& task, const EpisodeRunner& run, int start,
+                    const kb::KnowledgeBase* kb, const std::string& kb_name, const std::string& what);
 
 /// The KB a figure of `run_db` is coloured by: the only KB of `kb_file` (or
 /// the one called `kb_name`) when `kb_file` is given, else the run's own KB

@@ -33,7 +33,7 @@ TEST_CASE("--help on every level shows an example and exits 0", "[cli][help]") {
     for (const auto& args : std::vector<std::vector<std::string>>{
              {"--help"}, {"db", "--help"}, {"db", "info", "--help"}, {"db", "migrate", "--help"}, {"db", "digest", "--help"}, {"demo", "--help"},
              {"evolve", "--help"}, {"replay", "--help"}, {"simulate", "--help"}, {"bench", "--help"},
-             {"campaign", "--help"}, {"stats", "--help"}}) {
+             {"campaign", "--help"}, {"stats", "--help"}, {"render", "--help"}, {"report", "--help"}}) {
         auto result = test::run_cli(args);
         INFO(args.front() << " " << args.back());
         CHECK(result.exit_code == 0);
