@@ -1,0 +1,186 @@
+// stepstone serve: the KB service over HTTP (cpp-httplib), until SIGINT or SIGTERM.
+
+#include <httplib.h>
+#include <signal.h>
+
+#include <algorithm>
+#include <atomic>
+#include <charconv>
+#include <fstream>
+#include <iostream>
+#include <thread>
+
+#include "core/embedded.hpp"
+#include "core/error.hpp"
+#include "core/text.hpp"
+#include "service/service.hpp"
+
+namespace stepstone {
+std::span<const EmbeddedFile> dashboard_files();
+}
+
+namespace stepstone::service {
+
+namespace {
+
+using nlohmann::json;
+
+void reply(httplib::Response& res, int status, const json& body) {
+    res.status = status;
+    res.set_content(body.dump(), "application/json");
+}
+
+void fail(httplib::Response& res, int status, const std::string& message) {
+    reply(res, status, {{"error", message}, {"status", status}});
+}
+
+std::string read_token(const std::filesystem::path& path) {
+    std::ifstream in(path);
+    if (!in) throw ConfigError(concat("--token-file ", path.string(), ": cannot be read"));
+    std::string token;
+    std::getline(in, token);
+    while (!token.empty() && std::isspace(static_cast<unsigned char>(token.back()))) token.pop_back();
+    if (token.size() < 16) throw ConfigError(concat("--token-file ", path.string(), ": the token must have at least 16 characters"));
+    return token;
+}
+
+std::uint64_t parse_count(const httplib::Request& req, const char* key, std::uint64_t fallback) {
+    if (!req.has_param(key)) return fallback;
+    const auto text = req.get_param_value(key);
+    std::uint64_t value = 0;
+    const auto parsed = std::from_chars(text.data(), text.data() + text.size(), value);
+    if (text.empty() || parsed.ec != std::errc() || parsed.ptr != text.data() + text.size()) {
+        throw HttpError(400, concat(key, " must be a whole number >= 0, got \"", text, '"'));
+    }
+    return value;
+}
+
+json parse_body(const httplib::Request& req) {
+    try {
+        return json::parse(req.body);
+    } catch (const json::parse_error& e) {
+        throw HttpError(400, concat("malformed JSON: ", e.what()));
+    }
+}
+
+}  // namespace
+
+bool is_loopback(const std::string& host) {
+    return host == "localhost" || host == "::1" || host.rfind("127.", 0) == 0;
+}
+
+std::string_view dashboard_html() {
+    for (const auto& file : dashboard_files()) {
+        if (file.path == "dashboard.html") return file.text;
+    }
+    return "<!DOCTYPE html><title>stepstone</title><p>dashboard missing from this build</p>";
+}
+
+void serve(const ServeOptions& options) {
+    std::string token;
+    if (!options.token_file.empty()) token = read_token(options.token_file);
+    if (token.empty() && !is_loopback(options.bind)) {
+        throw ConfigError(concat("--bind ", options.bind, " is not loopback: give --token-file so that only clients "
+                                 "with the token are answered"));
+    }
+    if (token.empty() && options.writable) throw ConfigError("--writable needs --token-file (writes need the token)");
+    if (options.port < 0 || options.port > 65535) throw ConfigError(concat("--port must be within 0 to 65535, got ", options.port));
+
+    // block the stop signals in every thread; one thread waits for them
+    sigset_t stop_signals;
+    sigemptyset(&stop_signals);
+    sigaddset(&stop_signals, SIGINT);
+    sigaddset(&stop_signals, SIGTERM);
+    pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
+
+    KbService service(options.input, options.writable, options.limits);
+    httplib::Server server;
+    const unsigned threads = options.threads > 0 ? options.threads : std::max(2u, std::thread::hardware_concurrency());
+    server.new_task_queue = [threads] { return new httplib::ThreadPool(threads); };
+    server.set_payload_max_length(options.limits.max_body_bytes);
+    const auto seconds = static_cast<time_t>(options.timeout_seconds);
+    server.set_read_timeout(seconds, 0);
+    server.set_write_timeout(seconds, 0);
+
+    // every /v1 request passes the token check, then the handler; errors become JSON
+    using Handler = std::function<void(const httplib::Request&, httplib::Response&)>;
+    const auto guarded = [&token](Handler handler) {
+        return [handler, &token](const httplib::Request& req, httplib::Response& res) {
+            try {
+                if (!token.empty() && req.get_header_value("Authorization") != "Bearer " + token) {
+                    throw HttpError(401, "missing or wrong bearer token (Authorization: Bearer <token>)");
+                }
+                handler(req, res);
+            } catch (const HttpError& e) {
+                fail(res, e.status(), e.what());
+            } catch (const Error& e) {
+                fail(res, 400, e.what());
+            } catch (const std::exception& e) {
+                fail(res, 500, concat("internal error: ", e.what()));
+            }
+        };
+    };
+
+    server.Get("/healthz", [](const httplib::Request&, httplib::Response& res) { reply(res, 200, {{"status", "ok"}}); });
+    server.Get("/", [](const httplib::Request&, httplib::Response& res) {
+        res.set_content(std::string(dashboard_html()), "text/html; charset=utf-8");
+    });
+    server.Get("/v1/kbs", guarded([&](const auto&, auto& res) { reply(res, 200, service.list_kbs()); }));
+    server.Get(R"(/v1/kbs/([^/]+))",
+               guarded([&](const auto& req, auto& res) { reply(res, 200, service.kb_info(req.matches[1])); }));
+    server.Post(R"(/v1/kbs/([^/]+)/lookup)", guarded([&](const auto& req, auto& res) {
+                    reply(res, 200, service.lookup(req.matches[1], parse_body(req)));
+                }));
+    server.Post(R"(/v1/kbs/([^/]+)/shape)", guarded([&](const auto& req, auto& res) {
+                    reply(res, 200, service.shape(req.matches[1], parse_body(req)));
+                }));
+    server.Get(R"(/v1/kbs/([^/]+)/segments)", guarded([&](const auto& req, auto& res) {
+                   const auto order = req.has_param("order") ? req.get_param_value("order") : std::string("reward");
+                   const auto values = req.has_param("values") && req.get_param_value("values") == "1";
+                   reply(res, 200,
+                         service.segments(req.matches[1], order, parse_count(req, "limit", 20),
+                                          parse_count(req, "min_count", 1), values));
+               }));
+    server.Post(R"(/v1/kbs/([^/]+)/observe)", guarded([&](const auto& req, auto& res) {
+                    reply(res, 200, service.observe(req.matches[1], parse_body(req)));
+                }));
+    server.Get("/v1/runs", guarded([&](const auto&, auto& res) { reply(res, 200, service.runs()); }));
+    server.Get(R"(/v1/runs/(\d+)/generations)", guarded([&](const auto& req, auto& res) {
+                   reply(res, 200, service.generations(std::stoll(req.matches[1])));
+               }));
+    server.Get("/v1/campaign", guarded([&](const auto&, auto& res) { reply(res, 200, service.campaign()); }));
+    server.set_error_handler([](const httplib::Request& req, httplib::Response& res) {
+        // only statuses no handler set: unknown paths (404), bodies over the limit (413)
+        if (!res.body.empty()) return;
+        const std::string message = res.status == 404   ? concat("no such endpoint: ", req.method, " ", req.path)
+                                    : res.status == 413 ? "the request body is too large"
+                                                        : concat("HTTP ", res.status);
+        fail(res, res.status, message);
+    });
+
+    int port = options.port;
+    if (port == 0) {
+        port = server.bind_to_any_port(options.bind);
+    } else if (!server.bind_to_port(options.bind, port)) {
+        port = -1;
+    }
+    if (port < 0) throw Error(concat("cannot listen on ", options.bind, ":", options.port, " (in use, or not an address here)"));
+    std::cout << "listening on http://" << options.bind << ":" << port << (options.writable ? " (writable)" : " (read-only)")
+              << std::endl;
+
+    std::atomic<bool> signalled{false};
+    std::thread stopper([&] {
+        int signal = 0;
+        sigwait(&stop_signals, &signal);
+        signalled = true;
+        server.stop();
+    });
+    server.listen_after_bind();
+    // listen returns after stop(): the thread pool joined, every request answered;
+    // if it ended for another reason, wake the waiting thread
+    if (!signalled) pthread_kill(stopper.native_handle(), SIGTERM);
+    stopper.join();
+    std::cerr << "stepstone serve: stopped; every observation answered is committed" << std::endl;
+}
+
+}  // namespace stepstone::service

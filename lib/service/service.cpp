@@ -1,0 +1,405 @@
+// The JSON API of a KB file, run file or campaign directory, without HTTP.
+
+#include "service/service.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <mutex>
+#include <optional>
+#include <shared_mutex>
+
+#include "core/error.hpp"
+#include "core/text.hpp"
+#include "db/database.hpp"
+#include "db/kb_store.hpp"
+#include "exp/campaign.hpp"
+#include "exp/kb_tools.hpp"
+#include "exp/run_store.hpp"
+#include "kb/segments.hpp"
+#include "report/figures.hpp"
+
+namespace stepstone::service {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+struct KbService::Kb {
+    std::string name;        // as the API names it
+    std::string stored_name; // in its file
+    fs::path file;
+    std::int64_t id = 0;     // in its file
+    std::optional<std::uint64_t> randomized_seed;
+    kb::KnowledgeBase kb{kb::KbParams{}};
+    mutable std::shared_mutex mutex;  // shared: lookups; alone: observe
+    std::optional<db::Connection> writer;
+};
+
+namespace {
+
+json match_json(std::size_t index, const kb::SegmentMatch& m) {
+    return {{"segment", index},
+            {"kb_segment_id", m.id ? json(*m.id) : json()},
+            {"distance", m.distance},
+            {"average_reward", m.average_reward}};
+}
+
+// a JSON array of numbers into `out`, all finite; `what` names it in errors
+void read_numbers(const json& array, std::vector<float>& out, std::size_t expected, const std::string& what) {
+    if (!array.is_array()) throw HttpError(400, what + " must be an array of numbers");
+    if (array.size() != expected) {
+        throw HttpError(400, concat(what, " has ", array.size(), " values, the knowledge base expects ", expected));
+    }
+    for (std::size_t k = 0; k < array.size(); ++k) {
+        const auto& v = array[k];
+        if (!v.is_number()) throw HttpError(400, concat(what, "[", k, "] is not a number"));
+        const double d = v.get<double>();
+        if (!std::isfinite(d)) throw HttpError(400, concat(what, "[", k, "] is not finite"));
+        out.push_back(static_cast<float>(d));
+    }
+}
+
+// a behaviour matrix (rows of `channels` values) flattened
+std::vector<float> read_behaviour(const json& rows, const kb::KbParams& params, const std::string& what,
+                                  const Limits& limits) {
+    if (!rows.is_array() || rows.empty()) throw HttpError(400, what + " must be a non-empty array of rows");
+    if (rows.size() < params.segment_width) {
+        throw HttpError(400, concat(what, " has ", rows.size(), " rows, fewer than one segment (",
+                                    params.segment_width, " rows)"));
+    }
+    if (rows.size() / params.segment_width > limits.max_segments) {
+        throw HttpError(413, concat(what, " has ", rows.size() / params.segment_width, " segments, more than ",
+                                    limits.max_segments));
+    }
+    std::vector<float> values;
+    values.reserve(rows.size() * params.channels);
+    for (std::size_t r = 0; r < rows.size(); ++r) {
+        read_numbers(rows[r], values, params.channels, concat(what, "[", r, "]"));
+    }
+    return values;
+}
+
+const json& member(const json& body, const char* key) {
+    if (!body.is_object()) throw HttpError(400, "the body must be a JSON object");
+    const auto it = body.find(key);
+    if (it == body.end()) throw HttpError(400, concat("the body has no \"", key, "\""));
+    return *it;
+}
+
+json kb_summary(const std::string& name, const fs::path& file, const kb::KnowledgeBase& base,
+                const std::optional<std::uint64_t>& randomized) {
+    const auto& p = base.params();
+    return {{"name", name},
+            {"file", file.filename().string()},
+            {"segment_width", p.segment_width},
+            {"channels", p.channels},
+            {"delta", p.delta},
+            {"match", db::to_string(p.match)},
+            {"segments", base.size()},
+            {"max_average_reward", base.max_average()},
+            {"randomized_seed", randomized ? json(*randomized) : json()},
+            {"sources", [&] {
+                 json sources = json::array();
+                 for (const auto& s : base.sources()) {
+                     sources.push_back({{"run", s.run},
+                                        {"first_generation", s.first_generation},
+                                        {"last_generation", s.last_generation},
+                                        {"policies", s.policies}});
+                 }
+                 return sources;
+             }()}};
+}
+
+}  // namespace
+
+KbService::KbService(const fs::path& input, bool writable, Limits limits)
+    : input_(input), writable_(writable), limits_(limits) {
+    std::error_code error;
+    if (!fs::exists(input, error)) throw ConfigError(concat(input.string(), ": no such file or directory"));
+    campaign_ = fs::is_directory(input);
+    const auto mode = writable ? db::OpenMode::read_write : db::OpenMode::read_only;
+    // (name in the API, file, name in the file)
+    std::vector<std::tuple<std::string, fs::path, std::string>> wanted;
+    if (campaign_) {
+        if (!fs::exists(input / "campaign.db")) {
+            throw DataError(concat(input.string(), ": no campaign.db here (serve a KB or run file, or a campaign directory)"));
+        }
+        auto connection = db::open_database(input / "campaign.db", db::OpenMode::read_only);
+        auto rows = connection.prepare(db::sql("report/select_campaign_kbs.sql"));
+        while (rows.step()) wanted.emplace_back(rows.column_text(0), input / rows.column_text(1), "");
+    } else {
+        auto connection = db::open_database(input, db::OpenMode::read_only);
+        for (const auto& summary : db::list_kbs(connection)) wanted.emplace_back(summary.name, input, summary.name);
+    }
+    for (const auto& [name, file, stored_name] : wanted) {
+        if (!fs::exists(file)) continue;  // a campaign whose KB step has not run yet
+        auto kb = std::make_unique<Kb>();
+        auto connection = db::open_database(file, mode);
+        auto stored = db::load_kb(connection, stored_name);
+        kb->name = name;
+        kb->stored_name = stored.name;
+        kb->file = file;
+        kb->id = stored.id;
+        kb->randomized_seed = stored.randomized_seed;
+        kb->kb = std::move(stored.kb);
+        if (writable) {
+            db::start_writing(connection);
+            kb->writer.emplace(std::move(connection));
+        }
+        kbs_.push_back(std::move(kb));
+    }
+}
+
+KbService::~KbService() = default;
+
+KbService::Kb& KbService::find(const std::string& name) const {
+    for (const auto& kb : kbs_) {
+        if (kb->name == name) return *kb;
+    }
+    throw HttpError(404, concat("no knowledge base \"", name, "\" here"));
+}
+
+json KbService::list_kbs() const {
+    json out = json::array();
+    for (const auto& kb : kbs_) {
+        std::shared_lock lock(kb->mutex);
+        auto summary = kb_summary(kb->name, kb->file, kb->kb, kb->randomized_seed);
+        summary.erase("sources");
+        out.push_back(summary);
+    }
+    return out;
+}
+
+json KbService::kb_info(const std::string& name) const {
+    const Kb& kb = find(name);
+    std::shared_lock lock(kb.mutex);
+    auto out = kb_summary(kb.name, kb.file, kb.kb, kb.randomized_seed);
+    const auto stats = exp::compute_kb_stats(kb.kb, 20);
+    json bins = json::array();
+    for (const auto& bin : stats.histogram) bins.push_back({{"low", bin.low}, {"high", bin.high}, {"segments", bin.segments}});
+    out["histogram"] = bins;
+    out["observations"] = stats.observations;
+    out["segments_seen_once"] = stats.count_one;
+    return out;
+}
+
+json KbService::lookup(const std::string& name, const json& body) const {
+    const Kb& kb = find(name);
+    const auto& rows = member(body, "segments");
+    if (!rows.is_array()) throw HttpError(400, "\"segments\" must be an array of segments");
+    if (rows.size() > limits_.max_segments) {
+        throw HttpError(413, concat("\"segments\" has ", rows.size(), " segments, more than ", limits_.max_segments));
+    }
+    const std::size_t dim = kb.kb.params().dim();
+    std::vector<float> values;
+    values.reserve(rows.size() * dim);
+    for (std::size_t i = 0; i < rows.size(); ++i) read_numbers(rows[i], values, dim, concat("segments[", i, "]"));
+    std::shared_lock lock(kb.mutex);
+    const auto result = kb.kb.lookup(kb::as_segments(values, dim));
+    json matches = json::array();
+    for (std::size_t i = 0; i < result.segments.size(); ++i) matches.push_back(match_json(i, result.segments[i]));
+    return {{"kb", kb.name}, {"match", db::to_string(kb.kb.params().match)}, {"matches", matches}, {"r_max", result.r_max}};
+}
+
+json KbService::shape(const std::string& name, const json& body) const {
+    const Kb& kb = find(name);
+    const auto& params = kb.kb.params();
+    const auto values = read_behaviour(member(body, "behaviour"), params, "behaviour", limits_);
+    std::shared_lock lock(kb.mutex);
+    const auto result = kb.kb.lookup(kb::segment_behaviour(values, params.channels, params.segment_width));
+    json matches = json::array();
+    for (std::size_t i = 0; i < result.segments.size(); ++i) {
+        auto m = match_json(i, result.segments[i]);
+        m["step_start"] = i * params.segment_width;
+        matches.push_back(m);
+    }
+    return {{"kb", kb.name},
+            {"segment_width", params.segment_width},
+            {"match", db::to_string(params.match)},
+            {"max_average_reward", kb.kb.max_average()},
+            {"matches", matches},
+            {"r_max", result.r_max}};
+}
+
+json KbService::segments(const std::string& name, const std::string& order, std::size_t limit,
+                         std::uint64_t min_count, bool values) const {
+    const Kb& kb = find(name);
+    if (order != "reward" && order != "count" && order != "id") {
+        throw HttpError(400, concat("order must be reward, count or id, got \"", order, '"'));
+    }
+    if (limit > limits_.max_listed) throw HttpError(413, concat("limit must be at most ", limits_.max_listed));
+    std::shared_lock lock(kb.mutex);
+    const auto records = kb.kb.records();
+    std::vector<std::size_t> ids;
+    for (std::size_t id = 0; id < records.size(); ++id) {
+        if (records[id].count >= min_count) ids.push_back(id);
+    }
+    // ties by id, so the order is always the same
+    if (order == "reward") {
+        std::stable_sort(ids.begin(), ids.end(),
+                         [&](std::size_t a, std::size_t b) { return records[a].average() > records[b].average(); });
+    } else if (order == "count") {
+        std::stable_sort(ids.begin(), ids.end(),
+                         [&](std::size_t a, std::size_t b) { return records[a].count > records[b].count; });
+    }
+    json out = json::array();
+    for (std::size_t k = 0; k < ids.size() && k < limit; ++k) {
+        const auto& r = records[ids[k]];
+        json row{{"id", ids[k]},
+                 {"average_reward", r.average()},
+                 {"cum_reward", r.cum_reward},
+                 {"count", r.count},
+                 {"first_generation", r.first.generation},
+                 {"last_generation", r.last.generation}};
+        if (values) {
+            const auto v = kb.kb.segment(ids[k]);
+            row["values"] = std::vector<float>(v.begin(), v.end());
+        }
+        out.push_back(row);
+    }
+    return {{"kb", kb.name}, {"order", order}, {"matching", ids.size()}, {"segments", out}};
+}
+
+json KbService::observe(const std::string& name, const json& body) {
+    if (!writable_) throw HttpError(403, "this server is read-only (start it with --writable)");
+    Kb& kb = find(name);
+    const auto& policies = member(body, "policies");
+    if (!policies.is_array() || policies.empty()) throw HttpError(400, "\"policies\" must be a non-empty array");
+    if (policies.size() > limits_.max_policies) {
+        throw HttpError(413, concat("\"policies\" has ", policies.size(), " policies, more than ", limits_.max_policies));
+    }
+    std::string run = "service";
+    if (body.contains("run")) {
+        if (!body["run"].is_string() || body["run"].get<std::string>().empty()) {
+            throw HttpError(400, "\"run\" must be a non-empty string");
+        }
+        run = body["run"].get<std::string>();
+    }
+    std::int64_t generation = 0;
+    if (body.contains("generation")) {
+        if (!body["generation"].is_number_integer() || body["generation"].get<std::int64_t>() < 0) {
+            throw HttpError(400, "\"generation\" must be a whole number >= 0");
+        }
+        generation = body["generation"].get<std::int64_t>();
+    }
+    // every policy checked before any is observed
+    const auto& params = kb.kb.params();
+    std::vector<std::vector<float>> behaviours;
+    std::vector<double> rewards;
+    for (std::size_t i = 0; i < policies.size(); ++i) {
+        const auto& p = policies[i];
+        const auto what = concat("policies[", i, "]");
+        if (!p.is_object() || !p.contains("behaviour") || !p.contains("reward")) {
+            throw HttpError(400, what + " must be an object with \"behaviour\" and \"reward\"");
+        }
+        if (!p["reward"].is_number() || !std::isfinite(p["reward"].get<double>())) {
+            throw HttpError(400, what + ".reward must be a finite number");
+        }
+        behaviours.push_back(read_behaviour(p["behaviour"], params, what + ".behaviour", limits_));
+        rewards.push_back(p["reward"].get<double>());
+    }
+    std::unique_lock lock(kb.mutex);
+    const std::size_t previous = kb.kb.size();
+    std::size_t inserted = 0, matched = 0;
+    try {
+        const auto source = kb.kb.add_source(run);
+        for (std::size_t i = 0; i < behaviours.size(); ++i) {
+            const auto result = kb.kb.observe(
+                kb::segment_behaviour(behaviours[i], params.channels, params.segment_width), rewards[i],
+                {source, generation});
+            inserted += result.inserted;
+            matched += result.matched;
+        }
+        db::Transaction transaction(*kb.writer);
+        db::update_kb(*kb.writer, kb.id, kb.kb, previous, generation);
+        transaction.commit();
+    } catch (...) {
+        // the transaction rolled back: the KB is again what the file holds
+        kb.kb = db::load_kb(*kb.writer, kb.stored_name).kb;
+        throw;
+    }
+    return {{"kb", kb.name},      {"observed", behaviours.size()}, {"inserted", inserted},
+            {"matched", matched}, {"segments", kb.kb.size()},       {"durable", true}};
+}
+
+std::vector<KbService::RunFile> KbService::run_files() const {
+    std::vector<RunFile> out;
+    if (!campaign_) {
+        auto connection = db::open_database(input_, db::OpenMode::read_only);
+        if (connection.query_int("SELECT count(*) FROM run").value_or(0) > 0) out.push_back({1, input_});
+        return out;
+    }
+    auto connection = db::open_database(input_ / "campaign.db", db::OpenMode::read_only);
+    auto rows = connection.prepare("SELECT id, file FROM campaign_run ORDER BY id");
+    while (rows.step()) out.push_back({rows.column_int(0), input_ / rows.column_text(1)});
+    return out;
+}
+
+json KbService::runs() const {
+    json out = json::array();
+    if (campaign_) {
+        auto connection = db::open_database(input_ / "campaign.db", db::OpenMode::read_only);
+        auto rows = connection.prepare(db::sql("report/select_campaign_runs.sql"));
+        while (rows.step()) {
+            out.push_back({{"id", rows.column_int(0)},
+                           {"step", rows.column_text(1)},
+                           {"treatment", rows.column_text(2)},
+                           {"seed", rows.column_int(3)},
+                           {"file", rows.column_text(4)},
+                           {"generations", rows.column_int(5)},
+                           {"status", rows.column_text(6)},
+                           {"generations_done", rows.column_int(7)},
+                           {"best_reward", rows.is_null(8) ? json() : json(rows.column_double(8))}});
+        }
+        return out;
+    }
+    for (const auto& file : run_files()) {
+        auto connection = db::open_database(file.path, db::OpenMode::read_only);
+        const auto run = exp::load_run(connection);
+        const auto best = connection.query_int("SELECT count(*) FROM generation");
+        json row{{"id", file.id},
+                 {"step", run.task},
+                 {"treatment", run.treatment},
+                 {"seed", run.seed},
+                 {"file", file.path.filename().string()},
+                 {"generations", run.generations},
+                 {"status", run.status},
+                 {"generations_done", run.generations_done},
+                 {"best_reward", json()}};
+        if (best.value_or(0) > 0) {
+            auto select = connection.prepare("SELECT max(best_reward) FROM generation");
+            if (select.step()) row["best_reward"] = select.column_double(0);
+        }
+        out.push_back(row);
+    }
+    return out;
+}
+
+json KbService::generations(std::int64_t id) const {
+    for (const auto& file : run_files()) {
+        if (file.id != id) continue;
+        json out = json::array();
+        if (!fs::exists(file.path)) return out;  // not started yet
+        auto connection = db::open_database(file.path, db::OpenMode::read_only);
+        for (const auto& g : report::load_generations(connection, exp::load_run(connection).id)) {
+            out.push_back({{"generation", g.generation},
+                           {"best_reward", g.best},
+                           {"median_reward", g.median},
+                           {"mean_r_max", g.mean_shaping ? json(*g.mean_shaping) : json()},
+                           {"max_r_max", g.max_shaping ? json(*g.max_shaping) : json()}});
+        }
+        return out;
+    }
+    throw HttpError(404, concat("no run ", id, " here"));
+}
+
+json KbService::campaign() const {
+    if (!campaign_) throw HttpError(404, "not serving a campaign directory");
+    const auto index = exp::load_campaign(input_);
+    json by_status = json::object();
+    for (const auto& status : index.statuses) by_status[status] = by_status.value(status, 0) + 1;
+    json kbs = json::array();
+    for (const auto& kb : kbs_) kbs.push_back(kb->name);
+    return {{"directory", input_.filename().string()}, {"config", index.config}, {"runs", by_status}, {"kbs", kbs}};
+}
+
+}  // namespace stepstone::service
