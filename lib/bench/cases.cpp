@@ -28,6 +28,9 @@ void add_builtin_cases([[maybe_unused]] Registry& registry) {
 #if STEPSTONE_HAVE_REPORT
     add_render_cases(registry);
 #endif
+#if STEPSTONE_HAVE_SERVICE
+    add_serve_cases(registry);
+#endif
 }
 
 }  // namespace stepstone::bench

@@ -41,4 +41,9 @@ void add_evolve_cases(Registry& registry);
 void add_render_cases(Registry& registry);
 #endif
 
+#if STEPSTONE_HAVE_SERVICE
+/// `serve`, `serve-2`, `serve-8`: lookups over loopback HTTP vs in process.
+void add_serve_cases(Registry& registry);
+#endif
+
 }  // namespace stepstone::bench

@@ -76,8 +76,15 @@ std::string_view dashboard_html() {
     return "<!DOCTYPE html><title>stepstone</title><p>dashboard missing from this build</p>";
 }
 
-void serve(const ServeOptions& options) {
+struct HttpServer::Impl {
     std::string token;
+    std::unique_ptr<KbService> service;
+    httplib::Server server;
+    int port = -1;
+};
+
+HttpServer::HttpServer(const ServeOptions& options) : impl_(std::make_unique<Impl>()) {
+    std::string& token = impl_->token;
     if (!options.token_file.empty()) token = read_token(options.token_file);
     if (token.empty() && !is_loopback(options.bind)) {
         throw ConfigError(concat("--bind ", options.bind, " is not loopback: give --token-file so that only clients "
@@ -86,22 +93,15 @@ void serve(const ServeOptions& options) {
     if (token.empty() && options.writable) throw ConfigError("--writable needs --token-file (writes need the token)");
     if (options.port < 0 || options.port > 65535) throw ConfigError(concat("--port must be within 0 to 65535, got ", options.port));
 
-    // block the stop signals in every thread; one thread waits for them
-    sigset_t stop_signals;
-    sigemptyset(&stop_signals);
-    sigaddset(&stop_signals, SIGINT);
-    sigaddset(&stop_signals, SIGTERM);
-    pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
-
-    KbService service(options.input, options.writable, options.limits);
-    httplib::Server server;
+    impl_->service = std::make_unique<KbService>(options.input, options.writable, options.limits);
+    KbService& service = *impl_->service;
+    httplib::Server& server = impl_->server;
     const unsigned threads = options.threads > 0 ? options.threads : std::max(2u, std::thread::hardware_concurrency());
     server.new_task_queue = [threads] { return new httplib::ThreadPool(threads); };
     server.set_payload_max_length(options.limits.max_body_bytes);
     const auto seconds = static_cast<time_t>(options.timeout_seconds);
     server.set_read_timeout(seconds, 0);
     server.set_write_timeout(seconds, 0);
-
     // every /v1 request passes the token check, then the handler; errors become JSON
     using Handler = std::function<void(const httplib::Request&, httplib::Response&)>;
     const auto guarded = [&token](Handler handler) {
@@ -158,16 +158,35 @@ void serve(const ServeOptions& options) {
         fail(res, res.status, message);
     });
 
-    int port = options.port;
+    int& port = impl_->port;
+    port = options.port;
     if (port == 0) {
         port = server.bind_to_any_port(options.bind);
     } else if (!server.bind_to_port(options.bind, port)) {
         port = -1;
     }
     if (port < 0) throw Error(concat("cannot listen on ", options.bind, ":", options.port, " (in use, or not an address here)"));
-    std::cout << "listening on http://" << options.bind << ":" << port << (options.writable ? " (writable)" : " (read-only)")
-              << std::endl;
+}
 
+HttpServer::~HttpServer() = default;
+
+int HttpServer::port() const { return impl_->port; }
+
+void HttpServer::run() { impl_->server.listen_after_bind(); }
+
+void HttpServer::stop() { impl_->server.stop(); }
+
+void serve(const ServeOptions& options) {
+    // block the stop signals in every thread; one thread waits for them
+    sigset_t stop_signals;
+    sigemptyset(&stop_signals);
+    sigaddset(&stop_signals, SIGINT);
+    sigaddset(&stop_signals, SIGTERM);
+    pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
+
+    HttpServer server(options);
+    std::cout << "listening on http://" << options.bind << ":" << server.port()
+              << (options.writable ? " (writable)" : " (read-only)") << std::endl;
     std::atomic<bool> signalled{false};
     std::thread stopper([&] {
         int signal = 0;
@@ -175,8 +194,8 @@ void serve(const ServeOptions& options) {
         signalled = true;
         server.stop();
     });
-    server.listen_after_bind();
-    // listen returns after stop(): the thread pool joined, every request answered;
+    server.run();
+    // run returns after stop(): the thread pool joined, every request answered;
     // if it ended for another reason, wake the waiting thread
     if (!signalled) pthread_kill(stopper.native_handle(), SIGTERM);
     stopper.join();

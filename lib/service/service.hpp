@@ -101,6 +101,28 @@ struct ServeOptions {
     Limits limits;
 };
 
+/// The HTTP server of `options` bound to its port, not yet serving: what
+/// serve() runs, and what `stepstone bench serve` starts in process.
+/// Throws as serve() does.
+class HttpServer {
+public:
+    explicit HttpServer(const ServeOptions& options);
+    ~HttpServer();
+    HttpServer(const HttpServer&) = delete;
+    HttpServer& operator=(const HttpServer&) = delete;
+
+    /// The port bound (the free one picked for port 0).
+    int port() const;
+    /// Answers requests until stop(); then every request in flight is finished.
+    void run();
+    /// Makes run() return; callable from any thread.
+    void stop();
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
 /// Serves `options.input` until SIGINT or SIGTERM: then stops accepting,
 /// finishes the requests in flight (their observations committed) and
 /// returns. Prints "listening on http://HOST:PORT" on stdout once bound.
