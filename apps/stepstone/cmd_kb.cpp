@@ -129,7 +129,7 @@ void run_calibrate(const CalibrateFlags& flags) {
     exp::CalibrateOptions options;
     options.individual = flags.individual;
     options.segment_width = flags.segment_width;
-    options.deltas = exp::parse_deltas(flags.deltas);
+    if (flags.deltas != "none") options.deltas = exp::parse_deltas(flags.deltas);
     options.neighbours = flags.neighbours;
     options.threads = flags.threads;
     options.progress = flags.quiet ? ProgressMode::quiet : ProgressMode::automatic;
@@ -175,7 +175,8 @@ void add_calibrate(CLI::App& kb_cmd) {
     cmd->add_option("run", flags->run, "Run database (opened read-only)")->required();
     cmd->add_option("--individual", flags->individual, "The successful policy: 'best' (default) or an id");
     cmd->add_option("--deltas", flags->deltas,
-                    "Comma-separated deltas for the size table (default: " + flags->deltas + ")");
+                    "Comma-separated deltas for the size table (default: " + flags->deltas +
+                        "), or 'none' for the delta alone");
     cmd->add_option("--segment-width", flags->segment_width,
                     "Steps per segment (default: the run's knowledge base's, else 20)");
     cmd->add_option("--neighbours", flags->neighbours, "Nearest segments averaged by the rule (default: 20)");

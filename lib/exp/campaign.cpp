@@ -385,6 +385,13 @@ void make_kbs(const CampaignOptions& options, const CampaignConfig& config, db::
             made_from = concat("merge of ", inputs.size(), " source runs");
         }
     }
+    if (config.kb_delta) {
+        // re-observed under the larger delta (kb export --delta), then put in place
+        const fs::path coarse = options.dir / (std::string(kKbFile) + ".coarse");
+        export_kb(kb_path, "", coarse, true, config.kb_delta);
+        fs::rename(coarse, kb_path);
+        made_from += concat(", coarsened to delta ", shortest(*config.kb_delta));
+    }
     record_kb(connection, "kb", kKbFile, made_from, kb_path);
     if (config.needs_randomized_kb()) {
         randomize_kb_file(kb_path, options.dir / kRandomKbFile, config.randomize_seed, "", true);
@@ -427,6 +434,11 @@ CampaignConfig CampaignConfig::from_json(const nlohmann::json& json, const std::
                 std::string from = "best";
                 kb.read_choice("from", from, {"best", "merge"});
                 config.kb_from = from == "merge" ? KbFrom::merge : KbFrom::best;
+            }
+            if (kb.has("delta")) {
+                double delta = 0.0;
+                kb.read("delta", delta, 1e-9, 1e9);
+                config.kb_delta = delta;
             }
             kb.finish();
         }
@@ -486,6 +498,7 @@ nlohmann::json CampaignConfig::to_json() const {
     } else {
         json["kb"] = {{"from", kb_from == KbFrom::merge ? "merge" : "best"}};
     }
+    if (kb_delta) json["kb"]["delta"] = *kb_delta;
     json["randomize_seed"] = randomize_seed;
     json["target"] = step_json(target);
     auto names = nlohmann::json::array();
@@ -561,6 +574,7 @@ void write_plan(std::ostream& out, const CampaignConfig& config, const CampaignC
         case KbFrom::merge: out << "kb       merge of every source run's KB\n"; break;
         case KbFrom::file: out << "kb       copy of " << config.kb_file.string() << "\n"; break;
     }
+    if (config.kb_delta) out << "         coarsened to delta " << shortest(*config.kb_delta) << "\n";
     if (config.needs_randomized_kb()) out << "kb-rand  randomized with seed " << config.randomize_seed << "\n";
     out << "target   " << config.treatments.size() << " treatments (";
     for (std::size_t k = 0; k < config.treatments.size(); ++k) {

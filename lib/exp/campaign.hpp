@@ -42,12 +42,14 @@ struct CampaignConfig {
     std::optional<RunStep> source;
     KbFrom kb_from = KbFrom::best;
     std::filesystem::path kb_file;       ///< KbFrom::file: the KB to copy into the campaign
+    std::optional<double> kb_delta;      ///< set: the KB is coarsened to this delta (kb export --delta)
     std::uint64_t randomize_seed = 1;    ///< seed of the randomized KB (sum-rand, mo-rand)
     RunStep target;
     std::vector<Treatment> treatments;   ///< in the order given; each at most once
 
     /// Strict parse. Keys: source {config, seeds | runs [+ first_seed],
-    /// generations}, kb {from: best | merge} or {file}, randomize_seed,
+    /// generations}, kb {from: best | merge} or {file}, with an optional
+    /// delta (coarsen the KB to it), randomize_seed,
     /// target {config, seeds | runs [+ first_seed], generations, treatments}.
     /// A step's `config` is a file name (relative to `base`) or an inline
     /// evolve config. Throws ConfigError naming `source_name` and the key.

@@ -331,7 +331,8 @@ RunCalibration calibrate_run(const fs::path& run_db, const CalibrateOptions& opt
             for (const auto& policy : segments) kbs[d].observe(policy, 0.0, kb::Origin{0, 0});
         });
         std::string status = "KB sizes";
-        for (std::size_t d = 0; d < kbs.size(); ++d) status += concat(' ', options.deltas[d], ':', kbs[d].size());
+        for (std::size_t d = 0; d < kbs.size(); ++d)
+            status += concat(' ', shortest(options.deltas[d]), ':', kbs[d].size());
         progress.update(start + n, status);
     }
     progress.finish();

@@ -7,6 +7,7 @@
 
 #include "db/database.hpp"
 #include "db/digest.hpp"
+#include "db/kb_store.hpp"
 #include "support/run_cli.hpp"
 #include "support/temp_dir.hpp"
 
@@ -108,6 +109,35 @@ TEST_CASE("campaign runs every step; each run equals the same evolve run alone",
     const auto resumed = campaign(dir, "camp", {"--resume"});
     CHECK(resumed.exit_code == 0);
     CHECK_THAT(resumed.out, Contains("already_finished 11"));
+}
+
+TEST_CASE("a campaign with kb.delta uses the best source run's KB coarsened to that delta",
+          "[exp][campaign][cli][coarsen]") {
+    test::TempDir dir;
+    auto json = campaign_json(1);
+    const std::string from = R"("kb": {"from": "best"})";
+    json.replace(json.find(from), from.size(), R"("kb": {"from": "best", "delta": 4})");
+    test::write_file(dir / "c.json", json);
+    const auto result = campaign(dir, "camp", {"--jobs", "2"});
+    INFO(result.err);
+    REQUIRE(result.exit_code == 0);
+    const auto camp = dir / "camp";
+    // oracle: the source run's KB exported with kb export --delta by hand
+    REQUIRE(test::run_cli({"kb", "export", (camp / "source" / "seed-4.db").string(), "--out",
+                           (dir / "coarse.db").string(), "--delta", "4"})
+                .exit_code == 0);
+    auto by_hand = db::open_database(dir / "coarse.db", db::OpenMode::read_only);
+    auto used = db::open_database(camp / "kb" / "kb.db", db::OpenMode::read_only);
+    const auto expected = db::load_kb(by_hand);
+    const auto kb = db::load_kb(used);
+    CHECK(kb.kb.params().delta == 4.0);
+    CHECK(kb.kb.size() == expected.kb.size());
+    CHECK(db::kb_digest(kb.kb, std::nullopt) == db::kb_digest(expected.kb, std::nullopt));
+    auto source = db::open_database(camp / "source" / "seed-4.db", db::OpenMode::read_only);
+    CHECK(kb.kb.size() < db::load_kb(source, "run").kb.size());
+    // the randomized twin is made from the coarse KB
+    auto rand = db::open_database(camp / "kb" / "kb-rand.db", db::OpenMode::read_only);
+    CHECK(db::load_kb(rand).kb.size() == kb.kb.size());
 }
 
 TEST_CASE("a campaign killed mid-way and resumed gives the digests of an uninterrupted one", "[exp][campaign][cli][resume][slow]") {

@@ -140,3 +140,19 @@ TEST_CASE("kb calibrate's size table does not depend on threads or batch size", 
     options.batch = 0;
     CHECK_THROWS_AS(exp::calibrate_run(run, options), ConfigError);
 }
+
+TEST_CASE("kb calibrate --deltas none gives the delta alone", "[kb_cli][calibrate]") {
+    test::TempDir dir;
+    kbtest::make_run(dir / "run.db");
+    const auto run = dir / "run.db";
+    const auto full = test::run_cli({"kb", "calibrate", run.string(), "--json", "--quiet"});
+    const auto alone = test::run_cli({"kb", "calibrate", run.string(), "--deltas", "none", "--json"});
+    REQUIRE(full.exit_code == 0);
+    REQUIRE(alone.exit_code == 0);
+    const auto a = nlohmann::json::parse(full.out);
+    const auto b = nlohmann::json::parse(alone.out);
+    CHECK(b["delta"] == a["delta"]);
+    CHECK(b["sizes"].empty());
+    CHECK(a["sizes"].size() == 8);
+    CHECK(b["policies"] == 0);
+}
