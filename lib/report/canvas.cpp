@@ -85,6 +85,15 @@ std::string encode_png(cairo_surface_t* surface) {
     return out;
 }
 
+// selects the figure font at `size` (inside the caller's save/restore) and measures `text`
+cairo_text_extents_t measure(cairo_t* cr, const std::string& text, double size, bool bold) {
+    cairo_select_font_face(cr, kFont, CAIRO_FONT_SLANT_NORMAL, bold ? CAIRO_FONT_WEIGHT_BOLD : CAIRO_FONT_WEIGHT_NORMAL);
+    cairo_set_font_size(cr, size);
+    cairo_text_extents_t extents;
+    cairo_text_extents(cr, text.c_str(), &extents);
+    return extents;
+}
+
 }  // namespace
 
 Format format_of(const std::filesystem::path& path) {
@@ -140,14 +149,12 @@ void Canvas::set_colour(Colour colour, double alpha) {
     cairo_set_source_rgba(cr_, colour.r, colour.g, colour.b, alpha);
 }
 
+
 void Canvas::text(double x, double y, std::string_view text, double size, Colour colour, double align_x,
                   double align_y, bool bold, double angle) {
     const std::string owned(text);
     cairo_save(cr_);
-    cairo_select_font_face(cr_, kFont, CAIRO_FONT_SLANT_NORMAL, bold ? CAIRO_FONT_WEIGHT_BOLD : CAIRO_FONT_WEIGHT_NORMAL);
-    cairo_set_font_size(cr_, size);
-    cairo_text_extents_t extents;
-    cairo_text_extents(cr_, owned.c_str(), &extents);
+    const auto extents = measure(cr_, owned, size, bold);
     cairo_font_extents_t font;
     cairo_font_extents(cr_, &font);
     cairo_translate(cr_, x, y);
@@ -160,12 +167,8 @@ void Canvas::text(double x, double y, std::string_view text, double size, Colour
 }
 
 double Canvas::text_width(std::string_view text, double size, bool bold) const {
-    const std::string owned(text);
     cairo_save(cr_);
-    cairo_select_font_face(cr_, kFont, CAIRO_FONT_SLANT_NORMAL, bold ? CAIRO_FONT_WEIGHT_BOLD : CAIRO_FONT_WEIGHT_NORMAL);
-    cairo_set_font_size(cr_, size);
-    cairo_text_extents_t extents;
-    cairo_text_extents(cr_, owned.c_str(), &extents);
+    const auto extents = measure(cr_, std::string(text), size, bold);
     cairo_restore(cr_);
     return extents.x_advance;
 }

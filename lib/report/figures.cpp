@@ -28,6 +28,20 @@ std::vector<GenerationPoint> load_generations(db::Connection& connection, std::i
     return out;
 }
 
+namespace {
+
+// the median of `values` at x, with the quartiles as the band (nothing for no values)
+void add_quartiles(Curve& curve, double x, std::span<const double> values) {
+    if (values.empty()) return;
+    const auto s = stats::summarize(values);
+    curve.x.push_back(x);
+    curve.y.push_back(s.median);
+    curve.low.push_back(s.q1);
+    curve.high.push_back(s.q3);
+}
+
+}  // namespace
+
 Colour treatment_colour(exp::Treatment treatment) {
     switch (treatment) {
         case exp::Treatment::none: return kBlack;
@@ -107,12 +121,7 @@ void draw_treatment_rewards(Canvas& canvas, const exp::CampaignStats& stats) {
             for (const auto& run : stats.runs) {
                 if (run.treatment == t.treatment && g < run.best.size()) values.push_back(run.best[g]);
             }
-            if (values.empty()) continue;
-            const auto s = stats::summarize(values);
-            c.x.push_back(static_cast<double>(g));
-            c.y.push_back(s.median);
-            c.low.push_back(s.q1);
-            c.high.push_back(s.q3);
+            add_quartiles(c, static_cast<double>(g), values);
         }
         curves.push_back(std::move(c));
     }
@@ -163,12 +172,7 @@ void draw_treatment_shaping(Canvas& canvas, std::span<const exp::Treatment> trea
             for (const auto& run : series[t]) {
                 if (g < run.size() && run[g].mean_shaping) values.push_back(*run[g].mean_shaping);
             }
-            if (values.empty()) continue;
-            const auto s = stats::summarize(values);
-            c.x.push_back(static_cast<double>(g));
-            c.y.push_back(s.median);
-            c.low.push_back(s.q1);
-            c.high.push_back(s.q3);
+            add_quartiles(c, static_cast<double>(g), values);
         }
         if (!c.x.empty()) curves.push_back(std::move(c));
     }

@@ -67,6 +67,14 @@ void add_kb_section(Page& page, const std::string& prefix, const db::StoredKb& s
                 [&](Canvas& c) { draw_kb_growth(c, stored.kb, concat("Knowledge base \"", stored.name, "\": growth")); });
 }
 
+void write_index(const Page& page, const fs::path& dir, ReportSummary& summary) {
+    OutputFile index(dir / "index.html", false);
+    index.stream() << page.html();
+    index.commit();
+    summary.files = page.files();
+    summary.files.push_back("index.html");
+}
+
 void add_trajectory(Page& page, const std::string& name, const Trace& trace, const std::string& what) {
     ArenaLayout layout;
     TrajectoryOptions options;
@@ -156,11 +164,7 @@ void run_report(const ReportOptions& options, const fs::path& dir, ReportSummary
     page.preformatted(run.config.dump(2));
     progress.finish();
 
-    OutputFile index(dir / "index.html", false);
-    index.stream() << page.html();
-    index.commit();
-    summary.files = page.files();
-    summary.files.push_back("index.html");
+    write_index(page, dir, summary);
 }
 
 }  // namespace

@@ -257,11 +257,7 @@ void campaign_report(const ReportOptions& options, const fs::path& dir, ReportSu
     page.preformatted(index.config.dump(2));
     progress.finish();
 
-    OutputFile out(dir / "index.html", false);
-    out.stream() << page.html();
-    out.commit();
-    summary.files = page.files();
-    summary.files.push_back("index.html");
+    write_index(page, dir, summary);
 }
 
 }  // namespace stepstone::report
