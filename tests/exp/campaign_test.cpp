@@ -8,6 +8,7 @@
 #include "db/database.hpp"
 #include "db/digest.hpp"
 #include "db/kb_store.hpp"
+#include "exp/campaign.hpp"
 #include "support/run_cli.hpp"
 #include "support/temp_dir.hpp"
 
@@ -301,4 +302,37 @@ TEST_CASE("campaign --dry-run prints the plan and its cost without touching the 
     CHECK_THAT(result.out, Contains("at most 7.2e+04 robot steps"));
     // nothing but the config in the directory
     CHECK(std::distance(std::filesystem::directory_iterator(dir.path()), std::filesystem::directory_iterator()) == 1);
+}
+
+TEST_CASE("every example campaign parses; the demo's KB fixture loads with rewards spread over a range",
+          "[exp][campaign][examples]") {
+    const std::filesystem::path examples = std::filesystem::path(STEPSTONE_SOURCE_DIR) / "examples";
+    int parsed = 0;
+    for (const auto& entry : std::filesystem::directory_iterator(examples)) {
+        const auto name = entry.path().filename().string();
+        if (name.rfind("campaign_", 0) != 0 || entry.path().extension() != ".json") continue;
+        INFO(name);
+        CHECK_NOTHROW(exp::CampaignConfig::load(entry.path()));
+        ++parsed;
+    }
+    CHECK(parsed >= 3);
+    const auto replication = exp::CampaignConfig::load(examples / "campaign_replication.json");
+    REQUIRE(replication.source);
+    CHECK(replication.source->config.ea.population_size == 200);  // the paper's source run
+    CHECK(replication.source->generations == 4000);
+    CHECK(replication.treatments.size() == 5);
+    CHECK(replication.target.config.task.starts == 3);
+
+    // the quick campaign's KB is the shipped fixture: a paper-size source run's KB, coarsened
+    const auto quick = exp::CampaignConfig::load(examples / "campaign_quick.json");
+    REQUIRE(quick.kb_from == exp::KbFrom::file);
+    auto connection = db::open_database(quick.kb_file, db::OpenMode::read_only);
+    const auto fixture = db::load_kb(connection);  // validated on load like any KB
+    CHECK(fixture.kb.params().channels == 15);
+    CHECK(fixture.kb.params().segment_width == 20);
+    CHECK(!fixture.randomized_seed);
+    CHECK(fixture.kb.max_average() >= 3.0 / 24);  // segments of policies that scored several balls
+    REQUIRE(fixture.kb.sources().size() == 1);
+    CHECK(fixture.kb.sources()[0].last_generation == 4000);
+    CHECK(std::filesystem::file_size(quick.kb_file) < 4'000'000);
 }
