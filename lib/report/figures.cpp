@@ -80,12 +80,14 @@ void draw_run_shaping(Canvas& canvas, std::span<const GenerationPoint> generatio
     line_chart(canvas, {title, "generation", "r_max of the evaluated policies (KB average reward)", {}, {}}, curves);
 }
 
-void draw_kb_histogram(Canvas& canvas, const kb::KnowledgeBase& kb, const std::string& title, int bins) {
+void draw_kb_histogram(Canvas& canvas, const kb::KnowledgeBase& kb, const std::string& title, int bins,
+                       bool nonzero_only) {
     bins = std::max(bins, 1);
     const double top = kb.max_average() > 0.0 ? kb.max_average() : 1.0;
     std::vector<double> edges, counts(static_cast<std::size_t>(bins), 0.0);
     for (int i = 0; i <= bins; ++i) edges.push_back(top * i / bins);
     for (const auto& record : kb.records()) {
+        if (nonzero_only && !(record.average() > 0.0)) continue;
         const double t = std::clamp(record.average() / top, 0.0, 1.0);
         counts[std::min(static_cast<std::size_t>(t * bins), static_cast<std::size_t>(bins - 1))] += 1.0;
     }

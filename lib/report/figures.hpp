@@ -35,8 +35,11 @@ void draw_run_rewards(Canvas& canvas, std::span<const GenerationPoint> generatio
 void draw_run_shaping(Canvas& canvas, std::span<const GenerationPoint> generations, const std::string& title);
 
 /// The paper's Fig. 3: segments per average-reward bin (`bins` bins of equal
-/// width over [0, largest average]; [0, 1] when that is 0).
-void draw_kb_histogram(Canvas& canvas, const kb::KnowledgeBase& kb, const std::string& title, int bins = 25);
+/// width over [0, largest average]; [0, 1] when that is 0). With
+/// `nonzero_only`, segments whose average is 0 are left out, so the salient
+/// ones are not dwarfed by the many seen only in policies that scored nothing.
+void draw_kb_histogram(Canvas& canvas, const kb::KnowledgeBase& kb, const std::string& title, int bins = 25,
+                       bool nonzero_only = false);
 /// The KB's size after each observed generation (by the generation whose
 /// observation inserted each segment; sources one after another).
 void draw_kb_growth(Canvas& canvas, const kb::KnowledgeBase& kb, const std::string& title);
