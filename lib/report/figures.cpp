@@ -161,8 +161,14 @@ void draw_best_of_run(Canvas& canvas, const exp::CampaignStats& stats) {
     strip_chart(canvas, frame, strips, stats.threshold);
 }
 
-void draw_treatment_shaping(Canvas& canvas, std::span<const exp::Treatment> treatments,
-                            std::span<const std::vector<std::vector<GenerationPoint>>> series) {
+namespace {
+
+// per treatment, the median over its runs (and the quartile band) of one
+// value of each generation; runs or generations without it are skipped
+template <class Value>
+void treatment_series(Canvas& canvas, std::span<const exp::Treatment> treatments,
+                      std::span<const std::vector<std::vector<GenerationPoint>>> series, const ChartFrame& frame,
+                      Value value) {
     std::vector<Curve> curves;
     for (std::size_t t = 0; t < treatments.size() && t < series.size(); ++t) {
         Curve c{std::string(exp::to_string(treatments[t])), treatment_colour(treatments[t]), {}, {}, {}, {}, false,
@@ -172,16 +178,32 @@ void draw_treatment_shaping(Canvas& canvas, std::span<const exp::Treatment> trea
         for (std::size_t g = 0; g < length; ++g) {
             std::vector<double> values;
             for (const auto& run : series[t]) {
-                if (g < run.size() && run[g].mean_shaping) values.push_back(*run[g].mean_shaping);
+                if (g >= run.size()) continue;
+                if (const std::optional<double> v = value(run[g])) values.push_back(*v);
             }
             add_quartiles(c, static_cast<double>(g), values);
         }
         if (!c.x.empty()) curves.push_back(std::move(c));
     }
-    line_chart(canvas,
-               {"Shaping signal: mean r_max of each generation's policies, median over seeds", "generation",
-                "mean r_max (KB average reward)", {}, {}},
-               curves);
+    line_chart(canvas, frame, curves);
+}
+
+}  // namespace
+
+void draw_treatment_shaping(Canvas& canvas, std::span<const exp::Treatment> treatments,
+                            std::span<const std::vector<std::vector<GenerationPoint>>> series) {
+    treatment_series(canvas, treatments, series,
+                     {"Shaping signal: mean r_max of each generation's policies, median over seeds", "generation",
+                      "mean r_max (KB average reward)", {}, {}},
+                     [](const GenerationPoint& g) { return g.mean_shaping; });
+}
+
+void draw_treatment_medians(Canvas& canvas, std::span<const exp::Treatment> treatments,
+                            std::span<const std::vector<std::vector<GenerationPoint>>> series) {
+    treatment_series(canvas, treatments, series,
+                     {"Median task reward of the survivors per treatment: median over seeds, quartile band",
+                      "generation", "median task reward of the survivors (balls / 24)", {}, {}},
+                     [](const GenerationPoint& g) { return std::optional<double>(g.median); });
 }
 
 }  // namespace stepstone::report

@@ -57,4 +57,9 @@ void draw_best_of_run(Canvas& canvas, const exp::CampaignStats& stats);
 void draw_treatment_shaping(Canvas& canvas, std::span<const exp::Treatment> treatments,
                             std::span<const std::vector<std::vector<GenerationPoint>>> series);
 
+/// Per treatment, the median over seeds of each run's median survivor reward
+/// per generation, with the quartile band (`series` as draw_treatment_shaping).
+void draw_treatment_medians(Canvas& canvas, std::span<const exp::Treatment> treatments,
+                            std::span<const std::vector<std::vector<GenerationPoint>>> series);
+
 }  // namespace stepstone::report
