@@ -201,8 +201,8 @@ void draw_treatment_shaping(Canvas& canvas, std::span<const exp::Treatment> trea
 void draw_treatment_medians(Canvas& canvas, std::span<const exp::Treatment> treatments,
                             std::span<const std::vector<std::vector<GenerationPoint>>> series) {
     treatment_series(canvas, treatments, series,
-                     {"Median task reward of the survivors per treatment: median over seeds, quartile band",
-                      "generation", "median task reward of the survivors (balls / 24)", {}, {}},
+                     {"Median survivor reward per treatment: median over seeds, quartile band", "generation",
+                      "median survivor reward (balls / 24)", {}, {}},
                      [](const GenerationPoint& g) { return std::optional<double>(g.median); });
 }
 

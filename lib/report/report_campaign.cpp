@@ -190,7 +190,7 @@ void campaign_report(const ReportOptions& options, const fs::path& dir, ReportSu
     const auto runs = load_runs(connection);
     const auto kbs = load_kbs(connection);
     Progress progress("report", 4, options.progress);
-    Page page(dir, concat("stepstone report: campaign ", campaign_dir.filename().string()));
+    Page page(dir, concat("stepstone report: campaign ", campaign_dir.lexically_normal().string()));
 
     std::size_t finished = 0;
     for (const auto& r : runs) finished += r.status == "finished";
