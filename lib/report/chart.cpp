@@ -35,6 +35,12 @@ struct Bounds {
     bool empty() const { return low > high; }
 };
 
+// the largest size <= `size` at which `text` fits in `room` pixels (at least 9)
+double fit(const Canvas& canvas, const std::string& text, double size, double room, bool bold = false) {
+    const double width = canvas.text_width(text, size, bold);
+    return width <= room ? size : std::max(9.0, size * room / width);
+}
+
 }  // namespace
 
 Chart::Chart(Canvas& canvas, const ChartFrame& frame, double x0, double x1, double y0, double y1)
@@ -56,7 +62,10 @@ Chart::Chart(Canvas& canvas, const ChartFrame& frame, double x0, double x1, doub
     y_scale_ = {y_ticks_.low, y_ticks_.high, bottom_, top_};
 
     cairo_t* cr = canvas.cr();
-    if (!frame.title.empty()) canvas.text(canvas.width() / 2.0, 14.0, frame.title, kTitleSize, kText, 0.5, 0.0, true);
+    if (!frame.title.empty()) {
+        const double size = fit(canvas, frame.title, kTitleSize, canvas.width() - 20.0, true);
+        canvas.text(canvas.width() / 2.0, 14.0, frame.title, size, kText, 0.5, 0.0, true);
+    }
     cairo_set_line_width(cr, 1.0);
     canvas.set_colour(kGrid);
     for (const double v : y_ticks_.values) {
@@ -84,7 +93,8 @@ Chart::Chart(Canvas& canvas, const ChartFrame& frame, double x0, double x1, doub
     canvas.set_colour(kAxis);
     cairo_stroke(cr);
     canvas.text((left_ + right_) / 2.0, canvas.height() - 8.0, frame.x_label, kLabelSize, kText, 0.5, 1.0);
-    canvas.text(12.0, (top_ + bottom_) / 2.0, frame.y_label, kLabelSize, kText, 0.5, 0.0, false, -M_PI / 2.0);
+    canvas.text(12.0, (top_ + bottom_) / 2.0, frame.y_label, fit(canvas, frame.y_label, kLabelSize, bottom_ - top_ + 40.0),
+                kText, 0.5, 0.0, false, -M_PI / 2.0);
 }
 
 void Chart::clip() {

@@ -80,12 +80,14 @@ void draw_run_shaping(Canvas& canvas, std::span<const GenerationPoint> generatio
     line_chart(canvas, {title, "generation", "r_max of the evaluated policies (KB average reward)", {}, {}}, curves);
 }
 
-void draw_kb_histogram(Canvas& canvas, const kb::KnowledgeBase& kb, const std::string& title, int bins) {
+void draw_kb_histogram(Canvas& canvas, const kb::KnowledgeBase& kb, const std::string& title, int bins,
+                       bool nonzero_only) {
     bins = std::max(bins, 1);
     const double top = kb.max_average() > 0.0 ? kb.max_average() : 1.0;
     std::vector<double> edges, counts(static_cast<std::size_t>(bins), 0.0);
     for (int i = 0; i <= bins; ++i) edges.push_back(top * i / bins);
     for (const auto& record : kb.records()) {
+        if (nonzero_only && !(record.average() > 0.0)) continue;
         const double t = std::clamp(record.average() / top, 0.0, 1.0);
         counts[std::min(static_cast<std::size_t>(t * bins), static_cast<std::size_t>(bins - 1))] += 1.0;
     }
@@ -159,8 +161,14 @@ void draw_best_of_run(Canvas& canvas, const exp::CampaignStats& stats) {
     strip_chart(canvas, frame, strips, stats.threshold);
 }
 
-void draw_treatment_shaping(Canvas& canvas, std::span<const exp::Treatment> treatments,
-                            std::span<const std::vector<std::vector<GenerationPoint>>> series) {
+namespace {
+
+// per treatment, the median over its runs (and the quartile band) of one
+// value of each generation; runs or generations without it are skipped
+template <class Value>
+void treatment_series(Canvas& canvas, std::span<const exp::Treatment> treatments,
+                      std::span<const std::vector<std::vector<GenerationPoint>>> series, const ChartFrame& frame,
+                      Value value) {
     std::vector<Curve> curves;
     for (std::size_t t = 0; t < treatments.size() && t < series.size(); ++t) {
         Curve c{std::string(exp::to_string(treatments[t])), treatment_colour(treatments[t]), {}, {}, {}, {}, false,
@@ -170,16 +178,32 @@ void draw_treatment_shaping(Canvas& canvas, std::span<const exp::Treatment> trea
         for (std::size_t g = 0; g < length; ++g) {
             std::vector<double> values;
             for (const auto& run : series[t]) {
-                if (g < run.size() && run[g].mean_shaping) values.push_back(*run[g].mean_shaping);
+                if (g >= run.size()) continue;
+                if (const std::optional<double> v = value(run[g])) values.push_back(*v);
             }
             add_quartiles(c, static_cast<double>(g), values);
         }
         if (!c.x.empty()) curves.push_back(std::move(c));
     }
-    line_chart(canvas,
-               {"Shaping signal: mean r_max of each generation's policies, median over seeds", "generation",
-                "mean r_max (KB average reward)", {}, {}},
-               curves);
+    line_chart(canvas, frame, curves);
+}
+
+}  // namespace
+
+void draw_treatment_shaping(Canvas& canvas, std::span<const exp::Treatment> treatments,
+                            std::span<const std::vector<std::vector<GenerationPoint>>> series) {
+    treatment_series(canvas, treatments, series,
+                     {"Shaping signal: mean r_max of each generation's policies, median over seeds", "generation",
+                      "mean r_max (KB average reward)", {}, {}},
+                     [](const GenerationPoint& g) { return g.mean_shaping; });
+}
+
+void draw_treatment_medians(Canvas& canvas, std::span<const exp::Treatment> treatments,
+                            std::span<const std::vector<std::vector<GenerationPoint>>> series) {
+    treatment_series(canvas, treatments, series,
+                     {"Median survivor reward per treatment: median over seeds, quartile band", "generation",
+                      "median survivor reward (balls / 24)", {}, {}},
+                     [](const GenerationPoint& g) { return std::optional<double>(g.median); });
 }
 
 }  // namespace stepstone::report

@@ -35,8 +35,11 @@ void draw_run_rewards(Canvas& canvas, std::span<const GenerationPoint> generatio
 void draw_run_shaping(Canvas& canvas, std::span<const GenerationPoint> generations, const std::string& title);
 
 /// The paper's Fig. 3: segments per average-reward bin (`bins` bins of equal
-/// width over [0, largest average]; [0, 1] when that is 0).
-void draw_kb_histogram(Canvas& canvas, const kb::KnowledgeBase& kb, const std::string& title, int bins = 25);
+/// width over [0, largest average]; [0, 1] when that is 0). With
+/// `nonzero_only`, segments whose average is 0 are left out, so the salient
+/// ones are not dwarfed by the many seen only in policies that scored nothing.
+void draw_kb_histogram(Canvas& canvas, const kb::KnowledgeBase& kb, const std::string& title, int bins = 25,
+                       bool nonzero_only = false);
 /// The KB's size after each observed generation (by the generation whose
 /// observation inserted each segment; sources one after another).
 void draw_kb_growth(Canvas& canvas, const kb::KnowledgeBase& kb, const std::string& title);
@@ -52,6 +55,11 @@ void draw_best_of_run(Canvas& canvas, const exp::CampaignStats& stats);
 /// Per treatment, the median over seeds of each run's mean r_max per
 /// generation: `series[t][r]` is run r of treatment t's generations.
 void draw_treatment_shaping(Canvas& canvas, std::span<const exp::Treatment> treatments,
+                            std::span<const std::vector<std::vector<GenerationPoint>>> series);
+
+/// Per treatment, the median over seeds of each run's median survivor reward
+/// per generation, with the quartile band (`series` as draw_treatment_shaping).
+void draw_treatment_medians(Canvas& canvas, std::span<const exp::Treatment> treatments,
                             std::span<const std::vector<std::vector<GenerationPoint>>> series);
 
 }  // namespace stepstone::report

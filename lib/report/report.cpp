@@ -62,6 +62,19 @@ void add_kb_section(Page& page, const std::string& prefix, const db::StoredKb& s
                        "\" by average reward (the paper's Fig. 3): most segments come from policies that scored "
                        "nothing, the salient ones sit on the right."),
                 [&](Canvas& c) { draw_kb_histogram(c, stored.kb, concat("Knowledge base \"", stored.name, "\": segments by average reward")); });
+    const auto zero = static_cast<std::size_t>(std::count_if(stored.kb.records().begin(), stored.kb.records().end(),
+                                                             [](const auto& r) { return !(r.average() > 0.0); }));
+    if (zero > 0 && zero < stored.kb.size()) {
+        page.figure(prefix + "kb-histogram-nonzero", kFigureWidth, kFigureHeight,
+                    concat("The same without the ", zero, " segments whose average reward is 0 (",
+                           fixed(100.0 * static_cast<double>(zero) / static_cast<double>(stored.kb.size()), 1),
+                           " % of the KB): the ", stored.kb.size() - zero, " segments seen in policies that scored."),
+                    [&](Canvas& c) {
+                        draw_kb_histogram(c, stored.kb,
+                                          concat("Knowledge base \"", stored.name, "\": segments with a non-zero average"),
+                                          25, true);
+                    });
+    }
     page.figure(prefix + "kb-growth", kFigureWidth, kFigureHeight,
                 concat("Size of KB \"", stored.name, "\" after each observed generation."),
                 [&](Canvas& c) { draw_kb_growth(c, stored.kb, concat("Knowledge base \"", stored.name, "\": growth")); });

@@ -153,6 +153,10 @@ void add_statistics(Page& page, const exp::CampaignStats& stats, const std::vect
             series.back().push_back(load_generations(connection, exp::load_run(connection).id));
         }
     }
+    page.figure("treatment-medians", kFigureWidth, kFigureHeight,
+                "The median task reward of each generation's survivors: per treatment the median over seeds (line) "
+                "and the quartiles (band).",
+                [&](Canvas& c) { draw_treatment_medians(c, treatments, series); });
     const bool shaped = std::any_of(series.begin(), series.end(), [](const auto& t) {
         return std::any_of(t.begin(), t.end(), [](const auto& run) {
             return std::any_of(run.begin(), run.end(), [](const auto& g) { return g.mean_shaping.has_value(); });
@@ -186,7 +190,7 @@ void campaign_report(const ReportOptions& options, const fs::path& dir, ReportSu
     const auto runs = load_runs(connection);
     const auto kbs = load_kbs(connection);
     Progress progress("report", 4, options.progress);
-    Page page(dir, concat("stepstone report: campaign ", campaign_dir.filename().string()));
+    Page page(dir, concat("stepstone report: campaign ", campaign_dir.lexically_normal().string()));
 
     std::size_t finished = 0;
     for (const auto& r : runs) finished += r.status == "finished";

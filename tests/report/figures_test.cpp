@@ -98,6 +98,8 @@ TEST_CASE("every figure renders as PNG and SVG from a small run") {
     const exp::Treatment treatments[] = {exp::Treatment::sum};
     check_figure("treatment shaping", kFigureWidth, kFigureHeight,
                  [&](Canvas& c) { draw_treatment_shaping(c, treatments, series); });
+    check_figure("treatment medians", kFigureWidth, kFigureHeight,
+                 [&](Canvas& c) { draw_treatment_medians(c, treatments, series); });
     check_figure("run shaping", kFigureWidth, kFigureHeight, [&](Canvas& c) { draw_run_shaping(c, shaped, "s"); });
 }
 

@@ -88,6 +88,7 @@ TEST_CASE("a campaign's report compares the treatments and shows the KB and the 
     const auto result = run_cli({"report", (dir / "camp").string(), "--out", (dir / "rep").string(), "--quiet"});
     REQUIRE(result.exit_code == 0);
     for (const auto* name : {"successes.png", "best-of-run.png", "treatment-rewards.png", "treatment-shaping.png",
+                             "treatment-medians.png",
                              "kb-histogram.png", "source-best.svg", "source-best-saliency.png", "target-best.svg"}) {
         CAPTURE(name);
         CHECK(fs::exists(dir / "rep" / name));
