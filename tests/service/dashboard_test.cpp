@@ -56,6 +56,10 @@ TEST_CASE("the dashboard shows a campaign's runs and follows a run as it grows")
     CHECK(curve_points(first, 2) == 3);
     CHECK(first.find("target/sum-rand/seed-2.db") != std::string::npos);
     CHECK(first.find("data-kb=\"kb\"") != std::string::npos);
+    // one thick median curve per treatment
+    for (const auto* treatment : {"none", "sum", "sum-rand"}) {
+        CHECK(first.find(std::string("data-treatment=\"") + treatment + "\"") != std::string::npos);
+    }
 
     // one more generation of run 2, written while the server runs
     const auto run = dir / "camp" / "target" / "none" / "seed-1.db";
