@@ -16,6 +16,7 @@ struct EvolveFlags {
     std::string config;
     std::string db;
     std::int64_t seed = -1;
+    bool seed_given = false;
     int generations = -1;
     unsigned threads = 0;
     std::string retain;
@@ -32,7 +33,7 @@ void run_evolve_command(const EvolveFlags& flags) {
     exp::EvolveOptions options;
     options.config_path = flags.config;
     options.db_path = flags.db;
-    if (flags.seed >= 0) options.seed = static_cast<std::uint64_t>(flags.seed);
+    if (flags.seed_given) options.seed = static_cast<std::uint64_t>(flags.seed);
     if (flags.generations >= 0) options.generations = flags.generations;
     if (flags.retain == "all") options.retain = exp::Retain::all;
     if (flags.retain == "front") options.retain = exp::Retain::front;
@@ -59,7 +60,7 @@ void run_evolve_command(const EvolveFlags& flags) {
 void add_evolve_command(CLI::App& app) {
     auto flags = std::make_shared<EvolveFlags>();
     auto* cmd = app.add_subcommand("evolve", "Evolve neural-network policies with NSGA-II into a run database");
-    cmd->add_option("--config", flags->config, "Run config (JSON): task, ea, dnn, kb, transfer, seed, retain")->required();
+    cmd->add_option("--config", flags->config, "Run config (JSON): task, ea, dnn, kb, transfer, seed, retain (with --resume: default the run's stored one)");
     cmd->add_option("--db", flags->db, "Run database to create (or to continue with --resume)")->required();
     cmd->add_option("--seed", flags->seed, "Run seed (default: the config's, else drawn and stored)");
     cmd->add_option("--generations", flags->generations, "Epochs after the random generation 0 (overrides ea.generations)");
@@ -75,10 +76,11 @@ void add_evolve_command(CLI::App& app) {
     cmd->add_flag("--force", flags->force, "Replace an existing --db");
     cmd->add_flag("--quiet", flags->quiet, "No progress on stderr");
     cmd->footer(example({"stepstone evolve --config examples/source_quick.json --db run.db --seed 1",
-                         "stepstone evolve --config examples/source_quick.json --db run.db --resume --generations 40",
+                         "stepstone evolve --db run.db --resume --generations 40",
                          "stepstone evolve --config examples/target_quick.json --db sum.db --kb kb.db --treatment sum"}));
-    cmd->callback([flags] {
-        if (flags->seed < -1) throw ConfigError("--seed must be >= 0, got " + std::to_string(flags->seed));
+    cmd->callback([flags, cmd] {
+        flags->seed_given = cmd->count("--seed") > 0;
+        if (flags->seed_given && flags->seed < 0) throw ConfigError("--seed must be >= 0, got " + std::to_string(flags->seed));
         if (flags->generations < -1) {
             throw ConfigError("--generations must be >= 0, got " + std::to_string(flags->generations));
         }

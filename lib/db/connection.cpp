@@ -11,7 +11,8 @@ namespace stepstone::db {
 
 // ---------------------------------------------------------------- Connection
 
-Connection::Connection(const std::filesystem::path& path, OpenMode mode) : path_(path), mode_(mode) {
+Connection::Connection(const std::filesystem::path& path, OpenMode mode, std::string label)
+    : path_(path), label_(label.empty() ? path.string() : std::move(label)), mode_(mode) {
     int flags = SQLITE_OPEN_NOMUTEX;
     switch (mode) {
         case OpenMode::read_only: flags |= SQLITE_OPEN_READONLY; break;
@@ -35,13 +36,17 @@ Connection::~Connection() {
 }
 
 Connection::Connection(Connection&& other) noexcept
-    : db_(std::exchange(other.db_, nullptr)), path_(std::move(other.path_)), mode_(other.mode_) {}
+    : db_(std::exchange(other.db_, nullptr)),
+      path_(std::move(other.path_)),
+      label_(std::move(other.label_)),
+      mode_(other.mode_) {}
 
 Connection& Connection::operator=(Connection&& other) noexcept {
     if (this != &other) {
         if (db_) sqlite3_close_v2(db_);
         db_ = std::exchange(other.db_, nullptr);
         path_ = std::move(other.path_);
+        label_ = std::move(other.label_);
         mode_ = other.mode_;
     }
     return *this;

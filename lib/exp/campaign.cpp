@@ -17,6 +17,7 @@
 
 #include "core/config.hpp"
 #include "core/error.hpp"
+#include "core/writer_lock.hpp"
 #include "core/output_file.hpp"
 #include "core/rng.hpp"
 #include "core/text.hpp"
@@ -475,7 +476,12 @@ CampaignConfig CampaignConfig::from_json(const nlohmann::json& json, const std::
 }
 
 CampaignConfig CampaignConfig::load(const fs::path& path) {
-    return from_json(load_json_file(path), path.filename().string(), path.parent_path());
+    const nlohmann::json json = load_json_file(path);
+    if (json.is_object() && !json.contains("target") && (json.contains("task") || json.contains("ea"))) {
+        throw ConfigError(concat(path.string(), ": this is a run config, not a campaign config (run it with: "
+                                                "stepstone evolve --config ", path.string(), " --db RUN.db)"));
+    }
+    return from_json(json, path.string(), path.parent_path());
 }
 
 nlohmann::json CampaignConfig::to_json() const {
@@ -583,7 +589,11 @@ void write_plan(std::ostream& out, const CampaignConfig& config, const CampaignC
 
 CampaignIndex load_campaign(const fs::path& dir) {
     const fs::path path = dir / kCampaignFile;
-    if (!fs::exists(path)) throw DataError(concat(dir.string(), ": no campaign here (", kCampaignFile, " is missing)"));
+    if (!fs::exists(path)) {
+        const bool demo = fs::exists(dir / "campaign" / kCampaignFile);
+        throw DataError(concat(dir.string(), ": no campaign here (", kCampaignFile, " is missing)",
+                               demo ? concat("; the campaign is in ", (dir / "campaign").string()) : ""));
+    }
     auto connection = db::open_database(path, db::OpenMode::read_only);
     CampaignIndex index;
     auto config = connection.prepare("SELECT config FROM campaign WHERE id = 1");
@@ -621,6 +631,15 @@ CampaignSummary run_campaign(const CampaignOptions& given) {
     const auto plan = plan_runs(config);
     const fs::path campaign_path = options.dir / kCampaignFile;
     const std::string dir_name = options.dir.string();
+    if (fs::exists(options.dir) && !fs::is_directory(options.dir)) {
+        throw ConfigError(concat(dir_name, ": exists and is not a directory (--dir names the campaign's folder)"));
+    }
+    if (!options.resume && fs::exists(campaign_path)) {
+        throw ConfigError(
+            concat(dir_name, " already holds a campaign (", kCampaignFile, "); add --resume to continue it"));
+    }
+    fs::create_directories(options.dir);
+    const WriterLock lock(campaign_path);  // one campaign process per folder
 
     if (!options.resume) {
         if (fs::exists(campaign_path)) {

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "core/error.hpp"
+#include "core/writer_lock.hpp"
 #include "core/text.hpp"
 #include "db/database.hpp"
 #include "db/kb_store.hpp"
@@ -28,7 +29,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string file_name(const fs::path& path) { return path.filename().string(); }
+std::string file_name(const fs::path& path) { return path.string(); }
 
 KbWritten written(const std::string& name, const kb::KnowledgeBase& kb, std::optional<std::uint64_t> seed) {
     return {name, kb.params(), kb.size(), seed};
@@ -187,14 +188,51 @@ KbWritten export_kb(const fs::path& run_db, const std::string& name, const fs::p
     return written(stored.name, coarse, std::nullopt);
 }
 
+namespace {
+
+// the same KB merged twice counts its policies twice: the same file, the same
+// content, or a source run observed in both
+void refuse_duplicates(std::span<const fs::path> inputs, const std::vector<db::StoredKb>& loaded) {
+    const auto same_source = [](const kb::Source& a, const kb::Source& b) {
+        return a.run == b.run && a.first_generation == b.first_generation && a.last_generation == b.last_generation &&
+               a.policies == b.policies;
+    };
+    for (std::size_t i = 0; i < loaded.size(); ++i) {
+        for (std::size_t j = i + 1; j < loaded.size(); ++j) {
+            std::error_code ec;
+            std::string why;
+            if (fs::equivalent(inputs[i], inputs[j], ec)) {
+                why = "they are the same file";
+            } else if (db::kb_digest(loaded[i].kb, loaded[i].randomized_seed) ==
+                       db::kb_digest(loaded[j].kb, loaded[j].randomized_seed)) {
+                why = "they hold the same knowledge base";
+            } else {
+                for (const auto& a : loaded[i].kb.sources()) {
+                    for (const auto& b : loaded[j].kb.sources()) {
+                        if (why.empty() && same_source(a, b)) why = concat("both observed run \"", a.run, '"');
+                    }
+                }
+            }
+            if (!why.empty()) {
+                throw ConfigError(concat("cannot merge ", file_name(inputs[j]), " with ", file_name(inputs[i]), ": ",
+                                         why, ", so its policies would count twice (use --allow-duplicates to merge "
+                                              "anyway)"));
+            }
+        }
+    }
+}
+
+}  // namespace
+
 KbWritten merge_kb_files(std::span<const fs::path> inputs, const fs::path& out, const std::string& name,
-                         bool force, const std::string& input_name) {
+                         bool force, const std::string& input_name, bool allow_duplicates) {
     if (inputs.size() < 2)
         throw ConfigError(concat("kb merge needs at least two KB files, got ", inputs.size()));
     db::check_output_path(out, force);
     // every input is loaded and checked before the output is created
     std::vector<db::StoredKb> loaded;
     for (const auto& path : inputs) loaded.push_back(load_kb_file(path, input_name));
+    if (!allow_duplicates) refuse_duplicates(inputs, loaded);
     const std::string first = file_name(inputs[0]);
     for (std::size_t i = 1; i < loaded.size(); ++i) {
         if (auto mismatch =
@@ -483,6 +521,7 @@ Annotation annotate_run(const fs::path& run_db, const fs::path& kb_db, PolicySet
             stored.kb.lookup(kb::segment_behaviour(behaviour, channels, stored.kb.params().segment_width)));
     }
 
+    const WriterLock lock(run_db);  // not while evolve writes the run
     auto connection = db::open_database(run_db, db::OpenMode::read_write);
     const RunRecord run = load_run(connection);
     db::Transaction transaction(connection);
