@@ -174,6 +174,11 @@ int Statement::parameter(std::string_view name) const {
 
 int Statement::parameter_count() const { return sqlite3_bind_parameter_count(stmt_); }
 
+std::string Statement::parameter_name(int index) const {
+    const char* name = sqlite3_bind_parameter_name(stmt_, index);
+    return name ? name : "";
+}
+
 bool Statement::step() {
     const int rc = sqlite3_step(stmt_);
     if (rc == SQLITE_ROW) return true;

@@ -95,6 +95,8 @@ public:
     /// Index of a named parameter (":name"); throws if the statement has none.
     int parameter(std::string_view name) const;
     int parameter_count() const;
+    /// The name of parameter `index` (from 1) as written, e.g. ":kb_name"; empty for "?".
+    std::string parameter_name(int index) const;
     /// True for a text that held only comments or white space.
     bool empty() const { return stmt_ == nullptr; }
 

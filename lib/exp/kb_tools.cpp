@@ -12,6 +12,7 @@
 #include "core/writer_lock.hpp"
 #include "core/text.hpp"
 #include "db/database.hpp"
+#include "db/digest.hpp"
 #include "db/kb_store.hpp"
 #include "evo/pareto.hpp"
 #include "exp/evaluation.hpp"
