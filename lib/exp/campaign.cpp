@@ -264,7 +264,9 @@ private:
         if (pid < 0) throw Error(concat("campaign: cannot start a run: fork failed"));
         if (pid == 0) {
             // the run dies with the campaign: a killed campaign leaves no run writing behind its back
-            ::prctl(PR_SET_PDEATHSIG, SIGTERM);
+            // (SIGKILL, not SIGTERM, which evolve would take as "stop after this generation" and keep
+            // its writer lock that long, refusing a campaign resumed at once)
+            ::prctl(PR_SET_PDEATHSIG, SIGKILL);
             if (::getppid() != parent) ::_exit(125);
             const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
             if (fd >= 0) {
