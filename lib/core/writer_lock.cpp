@@ -9,6 +9,7 @@
 #include <csignal>
 #include <cstring>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 
 #include "core/error.hpp"
@@ -91,7 +92,7 @@ namespace {
 volatile std::sig_atomic_t g_received = 0;
 struct sigaction g_previous_int {}, g_previous_term {};
 
-extern "C" void on_interrupt(int signal) { g_received = signal; }
+extern "C" void on_interrupt(int number) { g_received = number; }
 
 }  // namespace
 

@@ -80,7 +80,7 @@ TEST_CASE("query runs a queries/ file with a header row, as the sqlite3 shell pr
     // a query without parameters, and --list
     result = test::run_cli({"query", run, "generation_times.sql"});
     CHECK(result.exit_code == 0);
-    CHECK_THAT(result.out, StartsWith("generation|"));
+    CHECK_THAT(result.out, StartsWith("run_id|generations|evaluations_per_s|"));
     result = test::run_cli({"query", "--list"});
     CHECK(result.exit_code == 0);
     for (const char* name : {"generation_times", "kb_growth", "kb_provenance", "policy_saliency",
