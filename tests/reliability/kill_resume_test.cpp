@@ -5,6 +5,10 @@
 
 #include <catch2/catch.hpp>
 
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <chrono>
 #include <filesystem>
 #include <map>
@@ -54,6 +58,7 @@ TEST_CASE("20 evolve runs killed with SIGKILL at seeded random moments resume to
     std::mt19937 draw(20261201);  // the kill moments are seeded: a failure reproduces
     std::uniform_int_distribution<int> delay_ms(0, 600);
     std::map<int, std::string> uninterrupted;
+    int mid_run = 0;  // kills that left some but not all generations committed
     for (int k = 0; k < 20; ++k) {
         const int seed = 1 + k % 4;
         if (!uninterrupted.count(seed)) {
@@ -75,6 +80,11 @@ TEST_CASE("20 evolve runs killed with SIGKILL at seeded random moments resume to
         INFO("run " << k << ", killed after " << wait << " ms");
         const std::string check = integrity(run);
         CHECK((check == "ok" || check == "absent"));
+        if (check == "ok") {
+            auto connection = db::open_database(run, db::OpenMode::read_only);
+            const auto done = connection.query_int("SELECT generations_done FROM run").value_or(-1);
+            mid_run += done >= 0 && done < 25 ? 1 : 0;
+        }
         // a killed writer's lock is released with it: the resume is not refused
         std::vector<std::string> resume{"evolve", "--db", run.string(), "--threads", "2", "--quiet"};
         if (check == "absent") {
@@ -88,6 +98,7 @@ TEST_CASE("20 evolve runs killed with SIGKILL at seeded random moments resume to
         CHECK(integrity(run) == "ok");
         CHECK(digest(run) == uninterrupted[seed]);
     }
+    CHECK(mid_run >= 5);
 }
 
 TEST_CASE("readers during a write never see a locked database nor a half-written generation",
@@ -188,4 +199,47 @@ TEST_CASE("5 campaigns killed with SIGKILL at seeded random moments resume to th
             CHECK(digest(camp / file) == digest(dir / "full" / file));
         }
     }
+}
+
+namespace {
+
+// runs the binary and returns its peak resident set size in KiB (wait4's ru_maxrss)
+long peak_rss_kib(const std::vector<std::string>& args) {
+    std::vector<std::string> storage{STEPSTONE_BINARY};
+    storage.insert(storage.end(), args.begin(), args.end());
+    std::vector<char*> argv;
+    for (auto& arg : storage) argv.push_back(arg.data());
+    argv.push_back(nullptr);
+    const pid_t pid = ::fork();
+    REQUIRE(pid >= 0);
+    if (pid == 0) {
+        ::execv(argv[0], argv.data());
+        ::_exit(127);
+    }
+    int status = 0;
+    struct rusage usage {};
+    ::wait4(pid, &status, 0, &usage);
+    REQUIRE(WIFEXITED(status));
+    REQUIRE(WEXITSTATUS(status) == 0);
+    return usage.ru_maxrss;
+}
+
+}  // namespace
+
+TEST_CASE("evolve's resident memory stays flat over ten times the generations", "[reliability][slow][memory]") {
+    test::TempDir dir;
+    // no KB: its growth is the one memory that should grow with the run
+    test::write_file(dir / "c.json", R"({
+      "task": {"kind": "source", "steps_per_start": 300, "starts": 1},
+      "ea": {"population_size": 8, "generations": 10},
+      "seed": 2
+    })");
+    const auto run = [&](const std::string& name, int generations) {
+        return peak_rss_kib({"evolve", "--config", (dir / "c.json").string(), "--db", (dir / name).string(),
+                             "--generations", std::to_string(generations), "--threads", "2", "--quiet"});
+    };
+    const long short_run = run("short.db", 15);
+    const long long_run = run("long.db", 150);
+    INFO("peak RSS: " << short_run << " KiB at 15 generations, " << long_run << " KiB at 150");
+    CHECK(static_cast<double>(long_run) < 1.10 * static_cast<double>(short_run));
 }
