@@ -233,7 +233,6 @@ KbWritten merge_kb_files(std::span<const fs::path> inputs, const fs::path& out, 
     // every input is loaded and checked before the output is created
     std::vector<db::StoredKb> loaded;
     for (const auto& path : inputs) loaded.push_back(load_kb_file(path, input_name));
-    if (!allow_duplicates) refuse_duplicates(inputs, loaded);
     const std::string first = file_name(inputs[0]);
     for (std::size_t i = 1; i < loaded.size(); ++i) {
         if (auto mismatch =
@@ -241,6 +240,7 @@ KbWritten merge_kb_files(std::span<const fs::path> inputs, const fs::path& out, 
             throw DataError(concat("cannot merge ", file_name(inputs[i]), " into ", first, ": ", *mismatch));
         }
     }
+    if (!allow_duplicates) refuse_duplicates(inputs, loaded);
     kb::KnowledgeBase merged = std::move(loaded[0].kb);
     for (std::size_t i = 1; i < loaded.size(); ++i) merged.merge(loaded[i].kb);
     const std::string out_name = name.empty() ? loaded[0].name : name;
