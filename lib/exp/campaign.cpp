@@ -640,6 +640,9 @@ CampaignSummary run_campaign(const CampaignOptions& given) {
         throw ConfigError(
             concat(dir_name, " already holds a campaign (", kCampaignFile, "); add --resume to continue it"));
     }
+    if (options.resume && !fs::exists(campaign_path)) {
+        throw ConfigError(concat(dir_name, " holds no ", kCampaignFile, "; run without --resume to start it"));
+    }
     fs::create_directories(options.dir);
     const WriterLock lock(campaign_path);  // one campaign process per folder
 
