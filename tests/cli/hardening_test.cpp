@@ -175,14 +175,14 @@ TEST_CASE("errors name the user's path in full, never a temporary file or the la
                   (dir / "foreign.db").string() + ": not a stepstone database");
 }
 
-TEST_CASE("--seed -1 is refused like any negative seed", "[cli][harden][errors]") {
+TEST_CASE("a seed of -1 is refused like any negative seed", "[cli][harden][errors]") {
     test::TempDir dir;
     test::write_file(dir / "c.json", kTinyConfig);
-    for (const char* seed : {"-1", "-2"}) {
+    for (const char* seed : {"-1", "-2", "18446744073709551616", "1e3", "9223372036854775808"}) {
         INFO(seed);
         check_refused(test::run_cli({"evolve", "--config", (dir / "c.json").string(), "--db",
                                      (dir / "r.db").string(), "--seed", seed}),
-                      2, std::string("--seed must be >= 0, got ") + seed);
+                      2, std::string("--seed must be an integer from 0 to 9223372036854775807, got ") + seed);
         CHECK_FALSE(fs::exists(dir / "r.db"));
     }
 }

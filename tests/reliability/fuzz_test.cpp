@@ -175,7 +175,7 @@ TEST_CASE("fuzzed configs and flags are refused with one line, exit 1 or 2, inpu
     const std::string text = kBaseConfig.dump();
     std::vector<std::string> texts{"", " ", "null", "[]", "42", "\"config\"", std::string(20000, '['),
                                    std::string("\x00\x01\x02\xff", 4), "{\"task\": NaN}", "{\"seed\": Infinity}",
-                                   "{\"seed\": 1e400}", "{\"seed\": -0}", "{\"task\": {\"steps_per_start\": 1e999}}"};
+                                   "{\"seed\": 1e400}", "{\"task\": {\"steps_per_start\": 1e999}}"};
     for (std::size_t cut = 1; cut < text.size(); cut += 5) texts.push_back(text.substr(0, cut));
     for (const auto& bad : texts) {
         const auto file = dir / ("t" + std::to_string(n++) + ".json");
@@ -211,8 +211,8 @@ TEST_CASE("fuzzed configs and flags are refused with one line, exit 1 or 2, inpu
         {"simulate", "--task", "source", "--controller", "random", "--steps", "abc", "--csv", (dir / "s.csv").string()},
         {"simulate", "--task", "source", "--controller", "random", "--starts", "0", "--csv", (dir / "s.csv").string()},
         {"simulate", "--task", "source", "--controller", "random", "--csv", "/no/such/dir/s.csv"},
-        {"stats", dir.string(), "--threshold", "nan"}, {"stats", dir.string(), "--threshold", "2"},
-        {"stats", dir.string(), "--threshold", "-1"}, {"stats", (dir / "absent").string()},
+        {"stats", dir.path().string(), "--threshold", "nan"}, {"stats", dir.path().string(), "--threshold", "2"},
+        {"stats", dir.path().string(), "--threshold", "-1"}, {"stats", (dir / "absent").string()},
         {"kb", "randomize", good.string(), "--out", (dir / "r.db").string(), "--seed", "-1"},
         {"kb", "merge", good.string(), "--out", (dir / "m.db").string()},
         {"kb", "calibrate", good.string(), "--deltas", "0,-1"}, {"kb", "calibrate", good.string(), "--deltas", "nan"},
@@ -275,7 +275,7 @@ TEST_CASE("fuzzed database files are refused with one line, never a crash, never
             {{"db", "digest", path}, may_succeed && !kb_file},
             {{"replay", path, "--individual", "best"}, may_succeed && !kb_file},
             {{"kb", "stats", path}, may_succeed},
-            {{"kb", "export", path, "--out", out, "--force"}, may_succeed && !kb_file},
+            {{"kb", "export", path, "--out", out, "--force"}, may_succeed},
             {{"query", path, "generation_times"}, may_succeed},
             {{"export", path, "--what", "individuals", "--csv", (dir / "out.csv").string(), "--force"},
              may_succeed && !kb_file},
