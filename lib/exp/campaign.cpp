@@ -672,6 +672,11 @@ CampaignSummary run_campaign(const CampaignOptions& given) {
     } else if (!fs::exists(campaign_path)) {
         throw ConfigError(concat(dir_name, " holds no ", kCampaignFile, "; run without --resume to start it"));
     }
+    if (options.resume) {
+        // a campaign killed in the middle of a write leaves a hot journal that only a writer can
+        // roll back: open it for writing once before the read-only loads
+        db::open_database(campaign_path, db::OpenMode::read_write).query_int("SELECT COUNT(*) FROM campaign");
+    }
     const auto index = load_campaign(options.dir);
     if (options.resume) {
         const std::string diff = first_difference(index.config, config.to_json());

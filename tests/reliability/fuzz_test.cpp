@@ -242,9 +242,9 @@ TEST_CASE("fuzzed database files are refused with one line, never a crash, never
     std::vector<std::pair<fs::path, bool>> files;  // path, whether a command may still succeed on it
     std::mt19937 draw(500);
     for (const auto& [name, bytes] : {std::pair<std::string, std::string>{"run", run_bytes}, {"kb", kb_bytes}}) {
-        for (int k = 1; k <= 6; ++k) {
+        for (int k = 1; k <= 10; ++k) {
             const auto path = dir / (name + "-cut" + std::to_string(k) + ".db");
-            test::write_file(path, bytes.substr(0, bytes.size() * static_cast<std::size_t>(k) / 7));
+            test::write_file(path, bytes.substr(0, bytes.size() * static_cast<std::size_t>(k) / 11));
             files.emplace_back(path, false);
         }
         std::uniform_int_distribution<std::size_t> where(0, bytes.size() - 1);
