@@ -12,11 +12,11 @@
 #include "core/writer_lock.hpp"
 #include "core/text.hpp"
 #include "db/database.hpp"
-#include "db/digest.hpp"
 #include "db/kb_store.hpp"
 #include "evo/pareto.hpp"
 #include "exp/evaluation.hpp"
 #include "exp/evolve_config.hpp"
+#include "exp/kb_duplicates.hpp"
 #include "exp/replay.hpp"
 #include "exp/run_store.hpp"
 #include "kb/segments.hpp"
@@ -189,42 +189,6 @@ KbWritten export_kb(const fs::path& run_db, const std::string& name, const fs::p
     return written(stored.name, coarse, std::nullopt);
 }
 
-namespace {
-
-// the same KB merged twice counts its policies twice: the same file, the same
-// content, or a source run observed in both
-void refuse_duplicates(std::span<const fs::path> inputs, const std::vector<db::StoredKb>& loaded) {
-    const auto same_source = [](const kb::Source& a, const kb::Source& b) {
-        return a.run == b.run && a.first_generation == b.first_generation && a.last_generation == b.last_generation &&
-               a.policies == b.policies;
-    };
-    for (std::size_t i = 0; i < loaded.size(); ++i) {
-        for (std::size_t j = i + 1; j < loaded.size(); ++j) {
-            std::error_code ec;
-            std::string why;
-            if (fs::equivalent(inputs[i], inputs[j], ec)) {
-                why = "they are the same file";
-            } else if (db::kb_digest(loaded[i].kb, loaded[i].randomized_seed) ==
-                       db::kb_digest(loaded[j].kb, loaded[j].randomized_seed)) {
-                why = "they hold the same knowledge base";
-            } else {
-                for (const auto& a : loaded[i].kb.sources()) {
-                    for (const auto& b : loaded[j].kb.sources()) {
-                        if (why.empty() && same_source(a, b)) why = concat("both observed run \"", a.run, '"');
-                    }
-                }
-            }
-            if (!why.empty()) {
-                throw ConfigError(concat("cannot merge ", file_name(inputs[j]), " with ", file_name(inputs[i]), ": ",
-                                         why, ", so its policies would count twice (use --allow-duplicates to merge "
-                                              "anyway)"));
-            }
-        }
-    }
-}
-
-}  // namespace
-
 KbWritten merge_kb_files(std::span<const fs::path> inputs, const fs::path& out, const std::string& name,
                          bool force, const std::string& input_name, bool allow_duplicates) {
     if (inputs.size() < 2)
@@ -240,7 +204,7 @@ KbWritten merge_kb_files(std::span<const fs::path> inputs, const fs::path& out, 
             throw DataError(concat("cannot merge ", file_name(inputs[i]), " into ", first, ": ", *mismatch));
         }
     }
-    if (!allow_duplicates) refuse_duplicates(inputs, loaded);
+    if (!allow_duplicates) refuse_duplicate_kbs(inputs, loaded);
     kb::KnowledgeBase merged = std::move(loaded[0].kb);
     for (std::size_t i = 1; i < loaded.size(); ++i) merged.merge(loaded[i].kb);
     const std::string out_name = name.empty() ? loaded[0].name : name;
