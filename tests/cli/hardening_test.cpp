@@ -77,7 +77,7 @@ TEST_CASE("a second writer on a run file is refused at once, naming the first; C
     const auto run = dir / "run.db";
     const std::vector<std::string> args{"evolve", "--config", (dir / "c.json").string(), "--db", run.string(),
                                         "--threads", "1", "--quiet"};
-    test::CliResult second;
+    test::CliResult second, migrate;
     double seconds = 0;
     const auto first = test::run_cli_signalled_when(
         args, [&] { return generations_done(run) >= 2; },
@@ -85,12 +85,14 @@ TEST_CASE("a second writer on a run file is refused at once, naming the first; C
             auto resume = args;
             resume.push_back("--resume");
             second = test::run_cli(resume);
+            migrate = test::run_cli({"db", "migrate", run.string()});  // another writer
         },
         SIGINT, &seconds);
 
     // the second writer: refused before touching anything, naming the first process
     check_refused(second, 1, run.string() + ": another process is writing it (pid ");
     CHECK_THAT(second.err, Contains("evolve"));
+    check_refused(migrate, 1, run.string() + ": another process is writing it (pid ");
 
     // the first: stopped at a generation boundary, within about a second, with how to resume
     INFO(first.err);
