@@ -108,6 +108,7 @@ InterruptGuard::InterruptGuard() {
 InterruptGuard::~InterruptGuard() {
     ::sigaction(SIGINT, &g_previous_int, nullptr);
     ::sigaction(SIGTERM, &g_previous_term, nullptr);
+    g_received = 0;  // no guard, no interruption
 }
 
 int InterruptGuard::received() { return static_cast<int>(g_received); }

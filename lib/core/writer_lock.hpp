@@ -39,7 +39,7 @@ public:
     InterruptGuard(const InterruptGuard&) = delete;
     InterruptGuard& operator=(const InterruptGuard&) = delete;
 
-    /// The signal received (SIGINT or SIGTERM), 0 if none.
+    /// The signal received (SIGINT or SIGTERM) while a guard lives, 0 if none.
     static int received();
 };
 

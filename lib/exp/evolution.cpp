@@ -494,15 +494,24 @@ EvolveSummary run_evolve(const EvolveOptions& options) {
     const double started = now_seconds();
     std::int64_t evaluations_here = 0;
     const InterruptGuard interrupts;  // Ctrl-C and SIGTERM stop at the next generation boundary
+    const auto stop = [&](int committed) {
+        // every committed generation goes into the main file: no -wal / -shm is left beside it
+        db::finish_writing(connection);
+        connection.close();
+        throw Interrupted(concat(name, ": stopped ",
+                                 committed < 0 ? std::string("before generation 0")
+                                               : concat("after generation ", committed, " of ", target),
+                                 "; continue with: stepstone evolve --db ", name, " --resume"));
+    };
     while (evolution.generation() < target) {
-        if (InterruptGuard::received()) {
-            // every committed generation goes into the main file: no -wal / -shm is left beside it
-            db::finish_writing(connection);
-            connection.close();
-            throw Interrupted(concat(name, ": stopped after generation ", evolution.generation(), " of ", target,
-                                     "; continue with: stepstone evolve --db ", name, " --resume"));
+        const int committed = evolution.generation();
+        if (InterruptGuard::received()) stop(committed);
+        GenerationWrite write;
+        try {
+            write = committed < 0 ? evolution.initialise() : evolution.epoch();
+        } catch (const EvaluationInterrupted&) {
+            stop(committed);  // the generation in progress is dropped: a resume redoes it identically
         }
-        GenerationWrite write = evolution.generation() < 0 ? evolution.initialise() : evolution.epoch();
         write_generation(connection, run, write);
         evaluations_here += write.stats.evaluations;
         const double elapsed = now_seconds() - started;
