@@ -6,6 +6,8 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
+#include "core/error.hpp"
+#include "core/writer_lock.hpp"
 #include "db/database.hpp"
 #include "db/digest.hpp"
 #include "db/inspect.hpp"
@@ -53,6 +55,7 @@ void run_db_migrate(const std::string& file) {
         auto connection = db::open_database(file, db::OpenMode::read_only, /*allow_older=*/true);
         before = db::database_info(connection).schema_version;
     }
+    const WriterLock lock(file);  // not while evolve or a campaign writes it
     auto connection = db::open_database(file, db::OpenMode::read_write);
     const int after = db::database_info(connection).schema_version;
     std::cout << file << ": schema version " << before;
@@ -65,6 +68,9 @@ void run_db_migrate(const std::string& file) {
 
 void run_db_digest(const std::string& file) {
     auto connection = db::open_database(file, db::OpenMode::read_only);
+    if (connection.query_int("SELECT COUNT(*) FROM run").value_or(0) == 0) {
+        throw DataError(file + ": holds no run (db digest hashes a run file; kb stats describes a knowledge base)");
+    }
     std::cout << db::run_digest(connection) << '\n';
 }
 

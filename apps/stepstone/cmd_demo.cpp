@@ -29,6 +29,9 @@ void run_demo(const DemoFlags& flags) {
     const fs::path dir = flags.dir;
     const fs::path config = fs::path(flags.examples) / "campaign_quick.json";
     if (!fs::exists(config)) throw ConfigError(config.string() + ": no such file (set --examples to the examples folder)");
+    if (fs::exists(dir) && !fs::is_directory(dir)) {
+        throw ConfigError(dir.string() + ": exists and is not a directory (--dir names the demo's output folder)");
+    }
     fs::create_directories(dir);
     const fs::path camp = dir / "campaign";
 

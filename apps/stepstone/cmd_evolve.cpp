@@ -1,6 +1,6 @@
 // stepstone evolve: the paper's direct policy search into a run file
 
-#include <csignal>
+#include <charconv>
 #include <iostream>
 #include <memory>
 
@@ -15,7 +15,7 @@ namespace {
 struct EvolveFlags {
     std::string config;
     std::string db;
-    std::int64_t seed = -1;
+    std::string seed;
     int generations = -1;
     unsigned threads = 0;
     std::string retain;
@@ -28,11 +28,25 @@ struct EvolveFlags {
     bool quiet = false;
 };
 
+// a seed as typed: digits only, within [0, 2^63 - 1] (no sign, no rounding, no wrap-around)
+std::uint64_t parse_seed(const std::string& text) {
+    std::uint64_t value = 0;
+    const auto parsed = std::from_chars(text.data(), text.data() + text.size(), value);
+    if (text.empty() || parsed.ec != std::errc() || parsed.ptr != text.data() + text.size() ||
+        value > static_cast<std::uint64_t>(exp::kMaxSeed)) {
+        throw ConfigError("--seed must be an integer from 0 to " + std::to_string(exp::kMaxSeed) + ", got " + text);
+    }
+    return value;
+}
+
+const CLI::Validator kNotEmpty([](std::string& value) { return value.empty() ? std::string("an empty value") : std::string(); },
+                               "", "not empty");
+
 void run_evolve_command(const EvolveFlags& flags) {
     exp::EvolveOptions options;
     options.config_path = flags.config;
     options.db_path = flags.db;
-    if (flags.seed >= 0) options.seed = static_cast<std::uint64_t>(flags.seed);
+    if (!flags.seed.empty()) options.seed = parse_seed(flags.seed);
     if (flags.generations >= 0) options.generations = flags.generations;
     if (flags.retain == "all") options.retain = exp::Retain::all;
     if (flags.retain == "front") options.retain = exp::Retain::front;
@@ -59,11 +73,13 @@ void run_evolve_command(const EvolveFlags& flags) {
 void add_evolve_command(CLI::App& app) {
     auto flags = std::make_shared<EvolveFlags>();
     auto* cmd = app.add_subcommand("evolve", "Evolve neural-network policies with NSGA-II into a run database");
-    cmd->add_option("--config", flags->config, "Run config (JSON): task, ea, dnn, kb, transfer, seed, retain")->required();
+    cmd->add_option("--config", flags->config, "Run config (JSON): task, ea, dnn, kb, transfer, seed, retain (with --resume: default the run's stored one)");
     cmd->add_option("--db", flags->db, "Run database to create (or to continue with --resume)")->required();
-    cmd->add_option("--seed", flags->seed, "Run seed (default: the config's, else drawn and stored)");
-    cmd->add_option("--generations", flags->generations, "Epochs after the random generation 0 (overrides ea.generations)");
-    cmd->add_option("--threads", flags->threads, "Evaluation threads (default: all cores); results do not depend on it");
+    cmd->add_option("--seed", flags->seed, "Run seed (default: the config's, else drawn and stored)")->check(kNotEmpty);
+    cmd->add_option("--generations", flags->generations, "Epochs after the random generation 0 (overrides ea.generations)")
+        ->check(kNotEmpty);
+    cmd->add_option("--threads", flags->threads, "Evaluation threads (default: all cores); results do not depend on it")
+        ->check(kNotEmpty);
     cmd->add_option("--retain", flags->retain, "Genomes to store: front (first front + best, default) or all")
         ->check(CLI::IsMember({"front", "all"}));
     cmd->add_option("--kb", flags->kb, "Knowledge base file that shapes the reward (overrides transfer.kb)");
@@ -75,10 +91,9 @@ void add_evolve_command(CLI::App& app) {
     cmd->add_flag("--force", flags->force, "Replace an existing --db");
     cmd->add_flag("--quiet", flags->quiet, "No progress on stderr");
     cmd->footer(example({"stepstone evolve --config examples/source_quick.json --db run.db --seed 1",
-                         "stepstone evolve --config examples/source_quick.json --db run.db --resume --generations 40",
+                         "stepstone evolve --db run.db --resume --generations 40",
                          "stepstone evolve --config examples/target_quick.json --db sum.db --kb kb.db --treatment sum"}));
     cmd->callback([flags] {
-        if (flags->seed < -1) throw ConfigError("--seed must be >= 0, got " + std::to_string(flags->seed));
         if (flags->generations < -1) {
             throw ConfigError("--generations must be >= 0, got " + std::to_string(flags->generations));
         }

@@ -62,6 +62,7 @@ struct MergeFlags {
     std::string name;
     std::string input_name;
     bool force = false;
+    bool allow_duplicates = false;
 };
 
 void add_merge(CLI::App& kb_cmd) {
@@ -76,11 +77,14 @@ void add_merge(CLI::App& kb_cmd) {
     cmd->add_option("--kb-name", flags->input_name,
                     "Which KB to read from each input (default: its only one)");
     cmd->add_flag("--force", flags->force, "Overwrite an existing --out file");
+    cmd->add_flag("--allow-duplicates", flags->allow_duplicates,
+                  "Merge even the same file twice, or KBs sharing a source run (counts add twice)");
     cmd->footer(example({"stepstone kb merge a.db b.db c.db --out merged.db"}));
     cmd->callback([flags] {
         std::vector<std::filesystem::path> inputs(flags->inputs.begin(), flags->inputs.end());
         print_written(flags->out,
-                      exp::merge_kb_files(inputs, flags->out, flags->name, flags->force, flags->input_name));
+                      exp::merge_kb_files(inputs, flags->out, flags->name, flags->force, flags->input_name,
+                                          flags->allow_duplicates));
     });
 }
 

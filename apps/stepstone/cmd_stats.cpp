@@ -48,10 +48,9 @@ void add_stats_command(CLI::App& app) {
         if (!(flags->threshold >= 0.0 && flags->threshold <= 1.0)) {
             throw ConfigError(concat("--threshold must be within [0, 1], got ", flags->threshold));
         }
+        // every output is checked before anything is computed or printed
         for (const auto* path : {&flags->csv, &flags->runs_csv, &flags->tests_csv}) {
-            if (!path->empty() && !flags->force && std::filesystem::exists(*path)) {
-                throw ConfigError(*path + " exists (use --force to replace it)");
-            }
+            if (!path->empty()) check_output_target(*path, flags->force);
         }
         std::optional<int> generation;
         if (flags->generation != -1) generation = flags->generation;

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <exception>
+#include <filesystem>
 #include <iostream>
 #include <utility>
 #include <vector>
@@ -44,10 +45,60 @@ namespace {
 constexpr int kExitRuntime = 1;
 constexpr int kExitUsage = 2;
 constexpr int kExitInternal = 70;
+constexpr int kExitInterrupted = 130;
 
 int fail(const std::string& message, int code) {
     std::cerr << "stepstone: error: " << stepstone::one_line(message) << std::endl;
     return code;
+}
+
+// optimal-string-alignment distance, for "did you mean"
+std::size_t typo_distance(const std::string& a, const std::string& b) {
+    std::vector<std::vector<std::size_t>> d(a.size() + 1, std::vector<std::size_t>(b.size() + 1));
+    for (std::size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
+    for (std::size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
+    for (std::size_t i = 1; i <= a.size(); ++i) {
+        for (std::size_t j = 1; j <= b.size(); ++j) {
+            const std::size_t cost = a[i - 1] == b[j - 1] ? 0 : 1;
+            d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + cost});
+            if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1]) {
+                d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
+            }
+        }
+    }
+    return d[a.size()][b.size()];
+}
+
+// "unknown command 'evolv' (did you mean 'evolve'?)" when the first word that
+// is not a known subcommand (at the top level or under kb, db) is close to one
+std::string unknown_command(const CLI::App& app, int argc, char** argv) {
+    const CLI::App* level = &app;
+    std::string path = "stepstone";
+    for (int k = 1; k < argc; ++k) {
+        const std::string word = argv[k];
+        if (word.empty() || word[0] == '-') return "";
+        const auto subcommands = level->get_subcommands([](const CLI::App*) { return true; });
+        if (subcommands.empty()) return "";
+        const CLI::App* next = nullptr;
+        std::string best;
+        std::size_t best_distance = 3;
+        for (const auto* sub : subcommands) {
+            if (sub->get_name() == word) next = sub;
+            const std::size_t distance = typo_distance(word, sub->get_name());
+            const bool prefix = sub->get_name().rfind(word, 0) == 0;
+            if (distance < best_distance || (prefix && best.empty())) {
+                best = sub->get_name();
+                best_distance = prefix ? std::min<std::size_t>(distance, 2) : distance;
+            }
+        }
+        if (!next) {
+            return "unknown command '" + word + "' for " + path +
+                   (best.empty() ? " (see " + path + " --help)" : " (did you mean '" + best + "'?)");
+        }
+        level = next;
+        path += " " + word;
+    }
+    return "";
 }
 
 }  // namespace
@@ -63,11 +114,18 @@ int main(int argc, char** argv) {
         app.parse(argc, argv);  // runs the chosen command's callback
     } catch (const CLI::ParseError& e) {
         if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
-        return fail(e.what(), kExitUsage);
+        const std::string unknown = unknown_command(app, argc, argv);
+        return fail(unknown.empty() ? std::string(e.what()) : unknown, kExitUsage);
+    } catch (const stepstone::Interrupted& e) {
+        std::cerr << "stepstone: interrupted: " << stepstone::one_line(e.what()) << std::endl;
+        return kExitInterrupted;
     } catch (const stepstone::ConfigError& e) {
         return fail(e.what(), kExitUsage);
     } catch (const stepstone::Error& e) {
         return fail(e.what(), kExitRuntime);
+    } catch (const std::filesystem::filesystem_error& e) {
+        // a path the user gave cannot be used (a file where a folder is expected, no permission)
+        return fail(e.path1().string() + ": " + e.code().message(), kExitRuntime);
     } catch (const std::exception& e) {
         return fail(std::string("internal error: ") + e.what(), kExitInternal);
     } catch (...) {

@@ -34,6 +34,11 @@ nlohmann::json load_json_file(const std::filesystem::path& path) {
             what = what.substr(pos + 2);
         }
         throw ConfigError(concat(path.string(), ": invalid JSON: ", one_line(what)));
+    } catch (const nlohmann::json::exception& e) {
+        // e.g. a number too large for a double (1e400)
+        std::string what = e.what();
+        if (auto pos = what.find("] "); pos != std::string::npos) what = what.substr(pos + 2);
+        throw ConfigError(concat(path.string(), ": invalid JSON: ", one_line(what)));
     }
 }
 

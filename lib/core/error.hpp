@@ -32,3 +32,14 @@ public:
 };
 
 }  // namespace stepstone
+
+namespace stepstone {
+
+/// The user stopped a long command (SIGINT or SIGTERM) at a safe point; what()
+/// says how to continue. Exit code 130.
+class Interrupted : public Error {
+public:
+    using Error::Error;
+};
+
+}  // namespace stepstone

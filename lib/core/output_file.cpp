@@ -7,11 +7,22 @@
 
 namespace stepstone {
 
-OutputFile::OutputFile(const std::filesystem::path& path, bool force) : path_(path) {
-    if (std::filesystem::exists(path_) && !force) {
-        throw ConfigError(concat(path_.string(), ": already exists (use --force to overwrite)"));
+void check_output_target(const std::filesystem::path& path, bool force) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    if (fs::is_directory(path, ec)) throw ConfigError(concat(path.string(), ": is a directory"));
+    if (fs::exists(path, ec) && !force) {
+        throw ConfigError(concat(path.string(), ": already exists (use --force to overwrite)"));
     }
-    if (std::filesystem::is_directory(path_)) throw ConfigError(concat(path_.string(), ": is a directory"));
+    const fs::path folder = path.parent_path();
+    if (!folder.empty() && !fs::is_directory(folder, ec)) {
+        throw ConfigError(concat(path.string(), ": cannot create: ", folder.string(),
+                                 fs::exists(folder, ec) ? " is not a directory" : " does not exist"));
+    }
+}
+
+OutputFile::OutputFile(const std::filesystem::path& path, bool force) : path_(path) {
+    check_output_target(path_, force);
     temp_ = path_.parent_path() / concat('.', path_.filename().string(), ".tmp-", ::getpid());
     out_.open(temp_, std::ios::binary | std::ios::trunc);
     if (!out_) throw Error(concat(path_.string(), ": cannot create file"));

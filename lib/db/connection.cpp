@@ -11,7 +11,8 @@ namespace stepstone::db {
 
 // ---------------------------------------------------------------- Connection
 
-Connection::Connection(const std::filesystem::path& path, OpenMode mode) : path_(path), mode_(mode) {
+Connection::Connection(const std::filesystem::path& path, OpenMode mode, std::string label)
+    : path_(path), label_(label.empty() ? path.string() : std::move(label)), mode_(mode) {
     int flags = SQLITE_OPEN_NOMUTEX;
     switch (mode) {
         case OpenMode::read_only: flags |= SQLITE_OPEN_READONLY; break;
@@ -35,13 +36,17 @@ Connection::~Connection() {
 }
 
 Connection::Connection(Connection&& other) noexcept
-    : db_(std::exchange(other.db_, nullptr)), path_(std::move(other.path_)), mode_(other.mode_) {}
+    : db_(std::exchange(other.db_, nullptr)),
+      path_(std::move(other.path_)),
+      label_(std::move(other.label_)),
+      mode_(other.mode_) {}
 
 Connection& Connection::operator=(Connection&& other) noexcept {
     if (this != &other) {
         if (db_) sqlite3_close_v2(db_);
         db_ = std::exchange(other.db_, nullptr);
         path_ = std::move(other.path_);
+        label_ = std::move(other.label_);
         mode_ = other.mode_;
     }
     return *this;
@@ -59,7 +64,7 @@ namespace {
 std::string hint_for(sqlite3* db) {
     if (!db) return "";
     const int code = sqlite3_extended_errcode(db);
-    if (code == SQLITE_READONLY_RECOVERY || code == SQLITE_READONLY_CANTINIT) {
+    if (code == SQLITE_READONLY_RECOVERY || code == SQLITE_READONLY_CANTINIT || code == SQLITE_READONLY_ROLLBACK) {
         return " (the file was left mid-write by a killed program: resume it, e.g. stepstone evolve --resume, "
                "or open it once for writing, e.g. stepstone db migrate)";
     }
@@ -168,6 +173,11 @@ int Statement::parameter(std::string_view name) const {
 }
 
 int Statement::parameter_count() const { return sqlite3_bind_parameter_count(stmt_); }
+
+std::string Statement::parameter_name(int index) const {
+    const char* name = sqlite3_bind_parameter_name(stmt_, index);
+    return name ? name : "";
+}
 
 bool Statement::step() {
     const int rc = sqlite3_step(stmt_);

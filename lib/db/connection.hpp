@@ -30,7 +30,9 @@ class Connection {
 public:
     /// Opens `path` with the raw SQLite checks only (see db/database.hpp for
     /// the stepstone checks). ":memory:" opens a private in-memory database.
-    Connection(const std::filesystem::path& path, OpenMode mode);
+    /// `label` names the file in error messages (default: `path` as given);
+    /// a temporary output passes the user's path.
+    Connection(const std::filesystem::path& path, OpenMode mode, std::string label = {});
     ~Connection();
     Connection(Connection&& other) noexcept;
     Connection& operator=(Connection&& other) noexcept;
@@ -49,8 +51,8 @@ public:
     std::int64_t last_insert_rowid() const;
     bool read_only() const { return mode_ == OpenMode::read_only; }
     const std::filesystem::path& path() const { return path_; }
-    /// The file name used in error messages.
-    std::string name() const { return path_.filename().string(); }
+    /// The file as named in error messages: the path as the user gave it.
+    const std::string& name() const { return label_; }
     sqlite3* handle() const { return db_; }
 
     /// Closes now (the destructor does it otherwise); throws on failure.
@@ -62,6 +64,7 @@ public:
 private:
     sqlite3* db_ = nullptr;
     std::filesystem::path path_;
+    std::string label_;
     OpenMode mode_ = OpenMode::read_only;
 };
 
@@ -92,6 +95,8 @@ public:
     /// Index of a named parameter (":name"); throws if the statement has none.
     int parameter(std::string_view name) const;
     int parameter_count() const;
+    /// The name of parameter `index` (from 1) as written, e.g. ":kb_name"; empty for "?".
+    std::string parameter_name(int index) const;
     /// True for a text that held only comments or white space.
     bool empty() const { return stmt_ == nullptr; }
 

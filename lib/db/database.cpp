@@ -11,6 +11,7 @@
 
 #include "core/embedded.hpp"
 #include "core/error.hpp"
+#include "core/output_file.hpp"
 #include "core/text.hpp"
 
 namespace stepstone::db {
@@ -33,8 +34,7 @@ std::string hex32(std::uint32_t value) {
 
 // the checks that need no SQLite: the file exists, has the SQLite header and
 // our application id, and is not shorter than its header says
-void check_file_header(const fs::path& path) {
-    const std::string name = path.filename().string();
+void check_file_header(const fs::path& path, const std::string& name) {
     std::error_code ec;
     const auto status = fs::status(path, ec);
     if (ec || !fs::exists(status)) throw DatabaseError(concat(name, ": no such file"));
@@ -133,11 +133,11 @@ int migrate(Connection& connection) {
     return applied;
 }
 
-Connection open_database(const fs::path& path, OpenMode mode, bool allow_older) {
-    const std::string name = path.filename().string();
+Connection open_database(const fs::path& path, OpenMode mode, bool allow_older, const std::string& label) {
+    const std::string name = label.empty() ? path.string() : label;
     if (mode == OpenMode::create) {
         if (fs::exists(path)) throw DatabaseError(concat(name, ": already exists"));
-        Connection connection(path, OpenMode::create);
+        Connection connection(path, OpenMode::create, name);
         // the stamp goes into the main file's header before WAL is on
         connection.exec(concat("PRAGMA application_id = ", static_cast<std::int64_t>(kApplicationId)));
         connection.exec("PRAGMA journal_mode = WAL; PRAGMA synchronous = NORMAL");
@@ -145,8 +145,8 @@ Connection open_database(const fs::path& path, OpenMode mode, bool allow_older) 
         return connection;
     }
 
-    check_file_header(path);
-    Connection connection(path, mode);
+    check_file_header(path, name);
+    Connection connection(path, mode, name);
     const DatabaseInfo info = database_info(connection);
     const int latest = latest_schema_version();
     if (info.schema_version > latest) {
@@ -178,14 +178,7 @@ void finish_writing(Connection& connection) {
     }
 }
 
-void check_output_path(const fs::path& path, bool force) {
-    if (fs::exists(path) && !force) {
-        throw ConfigError(concat(path.string(), ": already exists (use --force to overwrite)"));
-    }
-    if (fs::is_directory(path)) {
-        throw ConfigError(concat(path.string(), ": is a directory"));
-    }
-}
+void check_output_path(const fs::path& path, bool force) { check_output_target(path, force); }
 
 namespace {
 
@@ -219,7 +212,7 @@ fs::path temp_name_for(const fs::path& path) {
 OutputDatabase::OutputDatabase(const fs::path& path, bool force)
     : path_((check_output_path(path, force), path)),
       temp_(temp_name_for(path)),
-      connection_(open_database(temp_, OpenMode::create)) {}
+      connection_(open_database(temp_, OpenMode::create, false, path.string())) {}
 
 OutputDatabase::~OutputDatabase() {
     if (committed_) return;

@@ -46,7 +46,9 @@ struct DatabaseInfo {
 /// `allow_older` (for inspection). Throws
 /// DatabaseError with a one-line message naming the file; the file is then
 /// left byte for byte as it was.
-Connection open_database(const std::filesystem::path& path, OpenMode mode, bool allow_older = false);
+/// `label` names the file in messages (default: `path`).
+Connection open_database(const std::filesystem::path& path, OpenMode mode, bool allow_older = false,
+                         const std::string& label = {});
 
 /// Applies the migrations newer than the file's version, each in its own
 /// transaction. Returns the number applied.
@@ -92,7 +94,8 @@ private:
 /// -journal); missing files are not an error.
 void remove_database_files(const std::filesystem::path& path);
 
-/// Refuses (ConfigError) an existing output path unless `force`.
+/// Refuses (ConfigError) an existing output path unless `force`, a directory,
+/// and a path whose folder does not exist (core/output_file.hpp).
 void check_output_path(const std::filesystem::path& path, bool force);
 
 }  // namespace stepstone::db

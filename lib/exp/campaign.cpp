@@ -17,6 +17,7 @@
 
 #include "core/config.hpp"
 #include "core/error.hpp"
+#include "core/writer_lock.hpp"
 #include "core/output_file.hpp"
 #include "core/rng.hpp"
 #include "core/text.hpp"
@@ -263,7 +264,9 @@ private:
         if (pid < 0) throw Error(concat("campaign: cannot start a run: fork failed"));
         if (pid == 0) {
             // the run dies with the campaign: a killed campaign leaves no run writing behind its back
-            ::prctl(PR_SET_PDEATHSIG, SIGTERM);
+            // (SIGKILL, not SIGTERM, which evolve would take as "stop after this generation" and keep
+            // its writer lock that long, refusing a campaign resumed at once)
+            ::prctl(PR_SET_PDEATHSIG, SIGKILL);
             if (::getppid() != parent) ::_exit(125);
             const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
             if (fd >= 0) {
@@ -487,7 +490,12 @@ CampaignConfig CampaignConfig::from_json(const nlohmann::json& json, const std::
 }
 
 CampaignConfig CampaignConfig::load(const fs::path& path) {
-    return from_json(load_json_file(path), path.filename().string(), path.parent_path());
+    const nlohmann::json json = load_json_file(path);
+    if (json.is_object() && !json.contains("target") && (json.contains("task") || json.contains("ea"))) {
+        throw ConfigError(concat(path.string(), ": this is a run config, not a campaign config (run it with: "
+                                                "stepstone evolve --config ", path.string(), " --db RUN.db)"));
+    }
+    return from_json(json, path.string(), path.parent_path());
 }
 
 nlohmann::json CampaignConfig::to_json() const {
@@ -597,7 +605,11 @@ void write_plan(std::ostream& out, const CampaignConfig& config, const CampaignC
 
 CampaignIndex load_campaign(const fs::path& dir) {
     const fs::path path = dir / kCampaignFile;
-    if (!fs::exists(path)) throw DataError(concat(dir.string(), ": no campaign here (", kCampaignFile, " is missing)"));
+    if (!fs::exists(path)) {
+        const bool demo = fs::exists(dir / "campaign" / kCampaignFile);
+        throw DataError(concat(dir.string(), ": no campaign here (", kCampaignFile, " is missing)",
+                               demo ? concat("; the campaign is in ", (dir / "campaign").string()) : ""));
+    }
     auto connection = db::open_database(path, db::OpenMode::read_only);
     CampaignIndex index;
     auto config = connection.prepare("SELECT config FROM campaign WHERE id = 1");
@@ -635,6 +647,18 @@ CampaignSummary run_campaign(const CampaignOptions& given) {
     const auto plan = plan_runs(config);
     const fs::path campaign_path = options.dir / kCampaignFile;
     const std::string dir_name = options.dir.string();
+    if (fs::exists(options.dir) && !fs::is_directory(options.dir)) {
+        throw ConfigError(concat(dir_name, ": exists and is not a directory (--dir names the campaign's folder)"));
+    }
+    if (!options.resume && fs::exists(campaign_path)) {
+        throw ConfigError(
+            concat(dir_name, " already holds a campaign (", kCampaignFile, "); add --resume to continue it"));
+    }
+    if (options.resume && !fs::exists(campaign_path)) {
+        throw ConfigError(concat(dir_name, " holds no ", kCampaignFile, "; run without --resume to start it"));
+    }
+    fs::create_directories(options.dir);
+    const WriterLock lock(campaign_path);  // one campaign process per folder
 
     if (!options.resume) {
         if (fs::exists(campaign_path)) {
@@ -661,6 +685,11 @@ CampaignSummary run_campaign(const CampaignOptions& given) {
         output.commit();
     } else if (!fs::exists(campaign_path)) {
         throw ConfigError(concat(dir_name, " holds no ", kCampaignFile, "; run without --resume to start it"));
+    }
+    if (options.resume) {
+        // a campaign killed in the middle of a write leaves a hot journal that only a writer can
+        // roll back: open it for writing once before the read-only loads
+        db::open_database(campaign_path, db::OpenMode::read_write).query_int("SELECT COUNT(*) FROM campaign");
     }
     const auto index = load_campaign(options.dir);
     if (options.resume) {

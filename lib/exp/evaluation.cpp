@@ -1,5 +1,7 @@
 #include "exp/evaluation.hpp"
 
+#include "core/writer_lock.hpp"
+
 #include <algorithm>
 #include <exception>
 #include <thread>
@@ -42,10 +44,12 @@ std::vector<Evaluation> evaluate_all(const sim::Task& task, std::span<const nn::
     const std::size_t width = behaviours ? task.behaviour_size() : 0;
     if (behaviours) behaviours->assign(genomes.size() * width, 0.0f);
     parallel_for(genomes.size(), threads, [&](std::size_t k) {
+        if (InterruptGuard::received()) return;  // abandoned: thrown below
         std::span<float> behaviour;
         if (behaviours) behaviour = std::span<float>(behaviours->data() + k * width, width);
         results[k] = evaluate_genome(task, genomes[k], dnn, behaviour);
     });
+    if (InterruptGuard::received()) throw EvaluationInterrupted{};
     return results;
 }
 

@@ -29,9 +29,15 @@ struct Evaluation {
 Evaluation evaluate_genome(const sim::Task& task, const nn::Genome& genome, const nn::DnnConfig& dnn,
                            std::span<float> behaviour = {});
 
+/// Thrown by evaluate_all when SIGINT or SIGTERM arrived under an
+/// InterruptGuard (core/writer_lock.hpp): the evaluations were abandoned.
+struct EvaluationInterrupted {};
+
 /// Evaluates every genome on `threads` threads (0 = all cores). Result k
 /// belongs to genome k whatever the thread count. If `behaviours` is not
 /// null it is resized to genomes.size() x behaviour_size() and filled.
+/// Under an InterruptGuard, a signal abandons the remaining evaluations
+/// (EvaluationInterrupted), so a stop never waits for a whole generation.
 std::vector<Evaluation> evaluate_all(const sim::Task& task, std::span<const nn::Genome> genomes,
                                      const nn::DnnConfig& dnn, unsigned threads,
                                      std::vector<float>* behaviours = nullptr);

@@ -3,11 +3,13 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <iostream>
 #include <numeric>
 
 #include "core/error.hpp"
 #include "core/rng.hpp"
 #include "core/text.hpp"
+#include "core/writer_lock.hpp"
 #include "db/database.hpp"
 #include "db/digest.hpp"
 #include "db/kb_store.hpp"
@@ -397,11 +399,19 @@ kb::KbParams kb_params(const KbConfig& config) {
 }  // namespace
 
 EvolveSummary run_evolve(const EvolveOptions& options) {
-    EvolveConfig config = EvolveConfig::load(options.config_path);
-    if (options.retain) config.retain = *options.retain;
-    if (options.generations) config.ea.generations = *options.generations;
-    if (options.seed) config.seed = *options.seed;
-    const std::string name = options.db_path.filename().string();
+    const std::string name = options.db_path.string();
+    if (options.config_path.empty() && !options.resume) {
+        throw ConfigError("--config is required (except with --resume, which reads the run's stored config)");
+    }
+    if (!options.resume && !options.force && std::filesystem::exists(options.db_path)) {
+        throw ConfigError(concat(name, ": already exists; continue it with --resume (or replace it with --force)"));
+    }
+    if (!options.resume) db::check_output_path(options.db_path, options.force);
+    if (options.resume && !std::filesystem::exists(options.db_path)) {
+        throw DatabaseError(concat(name, ": no such file (start the run without --resume)"));
+    }
+    // one writer per run file, refused at once (readers never take the lock)
+    const WriterLock lock(options.db_path);
 
     // everything the run needs is loaded and checked before a file is written; a resumed
     // file is opened for writing at once, so that the WAL of a killed run is recovered
@@ -411,6 +421,12 @@ EvolveSummary run_evolve(const EvolveOptions& options) {
         resumed = db::open_database(options.db_path, db::OpenMode::read_write);
         stored_run = load_run(*resumed);
     }
+    EvolveConfig config = options.config_path.empty()
+                              ? EvolveConfig::from_json(stored_run->config, name + " (stored config)")
+                              : EvolveConfig::load(options.config_path);
+    if (options.retain) config.retain = *options.retain;
+    if (options.generations) config.ea.generations = *options.generations;
+    if (options.seed) config.seed = *options.seed;
     apply_transfer_options(config, options, stored_run ? &*stored_run : nullptr);
     if (config.transfer && stored_run && stored_run->config.contains("transfer") &&
         !options.allow_config_change) {
@@ -419,6 +435,11 @@ EvolveSummary run_evolve(const EvolveOptions& options) {
     }
     std::optional<kb::KnowledgeBase> shaping;
     if (config.transfer) shaping = load_shaping_kb(config);
+    if (shaping && needs_kb(config.treatment()) && !(shaping->max_average() > 0.0)) {
+        std::cerr << "stepstone: warning: " << config.transfer->kb.string()
+                  << ": the knowledge base's largest average reward is 0, so r_max is 0 for every policy and "
+                  << to_string(config.treatment()) << " selects as none would\n";
+    }
 
     db::Connection connection = [&] {
         if (resumed) return std::move(*resumed);
@@ -472,8 +493,25 @@ EvolveSummary run_evolve(const EvolveOptions& options) {
     Progress progress("generation", static_cast<std::uint64_t>(target), options.progress);
     const double started = now_seconds();
     std::int64_t evaluations_here = 0;
+    const InterruptGuard interrupts;  // Ctrl-C and SIGTERM stop at the next generation boundary
+    const auto stop = [&](int committed) {
+        // every committed generation goes into the main file: no -wal / -shm is left beside it
+        db::finish_writing(connection);
+        connection.close();
+        throw Interrupted(concat(name, ": stopped ",
+                                 committed < 0 ? std::string("before generation 0")
+                                               : concat("after generation ", committed, " of ", target),
+                                 "; continue with: stepstone evolve --db ", name, " --resume"));
+    };
     while (evolution.generation() < target) {
-        GenerationWrite write = evolution.generation() < 0 ? evolution.initialise() : evolution.epoch();
+        const int committed = evolution.generation();
+        if (InterruptGuard::received()) stop(committed);
+        GenerationWrite write;
+        try {
+            write = committed < 0 ? evolution.initialise() : evolution.epoch();
+        } catch (const EvaluationInterrupted&) {
+            stop(committed);  // the generation in progress is dropped: a resume redoes it identically
+        }
         write_generation(connection, run, write);
         evaluations_here += write.stats.evaluations;
         const double elapsed = now_seconds() - started;

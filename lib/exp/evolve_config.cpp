@@ -101,7 +101,12 @@ EvolveConfig EvolveConfig::from_json(const nlohmann::json& json, const std::stri
 }
 
 EvolveConfig EvolveConfig::load(const std::filesystem::path& path) {
-    EvolveConfig config = from_json(load_json_file(path), path.filename().string());
+    const nlohmann::json json = load_json_file(path);
+    if (json.is_object() && json.contains("target") && !json.contains("task")) {
+        throw ConfigError(concat(path.string(), ": this is a campaign config, not a run config (run it with: "
+                                                "stepstone campaign ", path.string(), " --dir DIR)"));
+    }
+    EvolveConfig config = from_json(json, path.string());
     if (config.transfer && !config.transfer->kb.empty() && config.transfer->kb.is_relative()) {
         config.transfer->kb = path.parent_path() / config.transfer->kb;
     }

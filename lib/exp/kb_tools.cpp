@@ -9,12 +9,14 @@
 #include <sstream>
 
 #include "core/error.hpp"
+#include "core/writer_lock.hpp"
 #include "core/text.hpp"
 #include "db/database.hpp"
 #include "db/kb_store.hpp"
 #include "evo/pareto.hpp"
 #include "exp/evaluation.hpp"
 #include "exp/evolve_config.hpp"
+#include "exp/kb_duplicates.hpp"
 #include "exp/replay.hpp"
 #include "exp/run_store.hpp"
 #include "kb/segments.hpp"
@@ -28,7 +30,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string file_name(const fs::path& path) { return path.filename().string(); }
+std::string file_name(const fs::path& path) { return path.string(); }
 
 KbWritten written(const std::string& name, const kb::KnowledgeBase& kb, std::optional<std::uint64_t> seed) {
     return {name, kb.params(), kb.size(), seed};
@@ -188,7 +190,7 @@ KbWritten export_kb(const fs::path& run_db, const std::string& name, const fs::p
 }
 
 KbWritten merge_kb_files(std::span<const fs::path> inputs, const fs::path& out, const std::string& name,
-                         bool force, const std::string& input_name) {
+                         bool force, const std::string& input_name, bool allow_duplicates) {
     if (inputs.size() < 2)
         throw ConfigError(concat("kb merge needs at least two KB files, got ", inputs.size()));
     db::check_output_path(out, force);
@@ -202,6 +204,7 @@ KbWritten merge_kb_files(std::span<const fs::path> inputs, const fs::path& out, 
             throw DataError(concat("cannot merge ", file_name(inputs[i]), " into ", first, ": ", *mismatch));
         }
     }
+    if (!allow_duplicates) refuse_duplicate_kbs(inputs, loaded);
     kb::KnowledgeBase merged = std::move(loaded[0].kb);
     for (std::size_t i = 1; i < loaded.size(); ++i) merged.merge(loaded[i].kb);
     const std::string out_name = name.empty() ? loaded[0].name : name;
@@ -484,6 +487,7 @@ Annotation annotate_run(const fs::path& run_db, const fs::path& kb_db, PolicySet
             stored.kb.lookup(kb::segment_behaviour(behaviour, channels, stored.kb.params().segment_width)));
     }
 
+    const WriterLock lock(run_db);  // not while evolve writes the run
     auto connection = db::open_database(run_db, db::OpenMode::read_write);
     const RunRecord run = load_run(connection);
     db::Transaction transaction(connection);

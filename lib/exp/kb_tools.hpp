@@ -48,9 +48,13 @@ KbWritten export_kb(const std::filesystem::path& run_db, const std::string& name
 /// delta, cumulated rewards and counts added, sources appended). The result
 /// is stored under `name` (empty: the first KB's name). Throws DataError
 /// naming both files and values when segment width, channels or delta
-/// differ, ConfigError for fewer than two inputs; no output is left then.
+/// differ, ConfigError for fewer than two inputs and, unless
+/// `allow_duplicates`, for two inputs that are the same file, hold the same
+/// KB or share a source run (its policies would count twice); no output is
+/// left then.
 KbWritten merge_kb_files(std::span<const std::filesystem::path> inputs, const std::filesystem::path& out,
-                         const std::string& name, bool force, const std::string& input_name = "");
+                         const std::string& name, bool force, const std::string& input_name = "",
+                         bool allow_duplicates = false);
 
 /// `kb randomize`: the KB of `in` with averages drawn from U[0, 1)
 /// (kb::KnowledgeBase::randomized(seed)), stored with its randomized_seed

@@ -59,7 +59,7 @@ TEST_CASE("db info refuses bad files with exit 1, one line, the file unchanged",
         auto result = test::run_cli({"db", "info", path.string()});
         CHECK(result.exit_code == 1);
         REQUIRE(result.err_lines().size() == 1);
-        CHECK_THAT(result.err_lines()[0], StartsWith(std::string("stepstone: error: ") + name + ": "));
+        CHECK_THAT(result.err_lines()[0], StartsWith("stepstone: error: " + path.string() + ": "));
         CHECK(result.out.empty());
         if (std::filesystem::exists(path)) CHECK(test::read_file(path) == before);
         // migrate refuses them as well, without writing

@@ -146,9 +146,10 @@ TEST_CASE("resuming with another config is refused and leaves the run unchanged"
     CHECK_THROWS_WITH(exp::run_evolve(resume), Contains("run.db: the config differs from the run's at ea.population_size"));
     CHECK(test::read_file(dir / "run.db") == before);
 
-    // an existing file is not replaced without --force
+    // an existing file is not replaced without --force; the message points to --resume first
     auto again = options_for(dir, "run.db", 1);
-    CHECK_THROWS_WITH(exp::run_evolve(again), Contains("already exists (use --force to overwrite)"));
+    CHECK_THROWS_WITH(exp::run_evolve(again),
+                      Contains("run.db: already exists; continue it with --resume (or replace it with --force)"));
 }
 
 namespace {

@@ -100,7 +100,8 @@ TEST_CASE("annotate and shape refuse a KB of other channels and leave the run fi
 
     check_error(
         test::run_cli({"kb", "annotate", (dir / "run.db").string(), "--kb", (dir / "two.db").string()}), 1,
-        "two.db: knowledge base \"two\" has 2 channels, the behaviours of run.db have 15");
+        (dir / "two.db").string() + ": knowledge base \"two\" has 2 channels, the behaviours of " +
+            (dir / "run.db").string() + " have 15");
     check_error(
         test::run_cli({"shape", "--kb", (dir / "two.db").string(), "--run", (dir / "run.db").string()}), 1,
         "has 2 channels");

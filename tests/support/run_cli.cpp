@@ -94,4 +94,42 @@ bool run_cli_killed_when(const std::vector<std::string>& args, const std::functi
     return held;
 }
 
+CliResult run_cli_signalled_when(const std::vector<std::string>& args, const std::function<bool()>& ready,
+                                 const std::function<void()>& while_running, int signal, double* seconds_to_exit,
+                                 std::chrono::seconds timeout) {
+    TempDir capture;
+    const auto out_path = capture / "out";
+    const auto err_path = capture / "err";
+    Argv argv(args);
+    const pid_t pid = ::fork();
+    if (pid < 0) throw std::runtime_error("fork failed");
+    if (pid == 0) {
+        const int in = ::open("/dev/null", O_RDONLY);
+        const int out = ::open(out_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        const int err = ::open(err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        ::dup2(in, 0);
+        ::dup2(out, 1);
+        ::dup2(err, 2);
+        ::execv(argv.pointers[0], argv.pointers.data());
+        ::_exit(127);
+    }
+    const auto deadline = std::chrono::steady_clock::now() + timeout;
+    while (!ready() && std::chrono::steady_clock::now() < deadline) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    if (while_running) while_running();
+    const auto signalled = std::chrono::steady_clock::now();
+    if (signal != 0) ::kill(pid, signal);
+    int status = 0;
+    ::waitpid(pid, &status, 0);
+    if (seconds_to_exit) {
+        *seconds_to_exit = std::chrono::duration<double>(std::chrono::steady_clock::now() - signalled).count();
+    }
+    CliResult result;
+    result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    result.out = read_file(out_path);
+    result.err = read_file(err_path);
+    return result;
+}
+
 }  // namespace stepstone::test

@@ -28,4 +28,13 @@ CliResult run_cli(const std::vector<std::string>& args, const std::filesystem::p
 bool run_cli_killed_when(const std::vector<std::string>& args, const std::function<bool()>& ready,
                          std::chrono::seconds timeout = std::chrono::seconds(120));
 
+/// Starts the stepstone binary with `args`, waits until `ready()` holds
+/// (polled every 5 ms, at most `timeout`), calls `while_running()` (e.g. to
+/// start a second process), sends `signal` (0: none) and waits for the end.
+/// `seconds_to_exit` receives the time from the signal to the exit.
+CliResult run_cli_signalled_when(const std::vector<std::string>& args, const std::function<bool()>& ready,
+                                 const std::function<void()>& while_running, int signal,
+                                 double* seconds_to_exit = nullptr,
+                                 std::chrono::seconds timeout = std::chrono::seconds(120));
+
 }  // namespace stepstone::test
