@@ -3,7 +3,7 @@
 reward of the evaluated policies, per treatment, over generation windows.
 
 Usage:
-  shaping_signal.py CAMPAIGN_DIR [--window 100] [--csv OUT.csv]
+  shaping_signal.py CAMPAIGN_DIR [--window 100] [--seeds 1,2] [--csv OUT.csv]
   shaping_signal.py --runs RUN.db [RUN.db ...]      (one row per file, all generations)
 
 For each (treatment, window): policies, mean r_max, share with r_max > 0,
@@ -59,6 +59,7 @@ def main():
     ap.add_argument("--runs", nargs="+")
     ap.add_argument("--window", type=int, default=100)
     ap.add_argument("--csv")
+    ap.add_argument("--seeds", help="comma-separated seeds to include (default: every run file)")
     args = ap.parse_args()
     table = []
     if args.runs:
@@ -68,7 +69,11 @@ def main():
     elif args.campaign:
         for tdir in sorted(glob.glob(os.path.join(args.campaign, "target", "*"))):
             pooled = {}
-            for path in sorted(glob.glob(os.path.join(tdir, "seed-*.db"))):
+            paths = sorted(glob.glob(os.path.join(tdir, "seed-*.db")))
+            if args.seeds:
+                wanted = {f"seed-{v.strip()}.db" for v in args.seeds.split(",")}
+                paths = [p for p in paths if os.path.basename(p) in wanted]
+            for path in paths:
                 for key, pairs in rows_of(path, args.window).items():
                     pooled.setdefault(key, []).extend(pairs)
             for key in sorted(pooled):
