@@ -13,6 +13,7 @@
 #include <csignal>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <random>
 #include <thread>
 
@@ -42,6 +43,18 @@ std::string digest(const fs::path& path) {
 
 // integrity_check of a file a killed writer left (opened for writing, as a resume does, so
 // that its WAL is recovered first); "absent" when the kill came before the file existed
+// the run's last committed generation as a reader sees it (-2 while the file
+// does not exist yet or cannot be read)
+int committed_generations(const fs::path& path) {
+    if (!fs::exists(path)) return -2;
+    try {
+        auto connection = db::open_database(path, db::OpenMode::read_only);
+        return static_cast<int>(connection.query_int("SELECT generations_done FROM run").value_or(-2));
+    } catch (const std::exception&) {
+        return -2;
+    }
+}
+
 std::string integrity(const fs::path& path) {
     if (!fs::exists(path)) return "absent";
     db::Connection connection(path, db::OpenMode::read_write);
@@ -56,8 +69,12 @@ TEST_CASE("20 evolve runs killed with SIGKILL at seeded random moments resume to
           "[reliability][slow]") {
     test::TempDir dir;
     test::write_file(dir / "c.json", kTinyConfig);
-    std::mt19937 draw(20261201);  // the kill moments are seeded: a failure reproduces
-    std::uniform_int_distribution<int> delay_ms(0, 600);
+    // the kill moments are seeded (a failure reproduces) and tied to the run's
+    // progress, not to the clock, so they land mid-run on a fast or a loaded
+    // machine alike: after generation `after` is committed, plus 0-40 ms
+    std::mt19937 draw(20261201);
+    std::uniform_int_distribution<int> after_generation(-1, 20);
+    std::uniform_int_distribution<int> delay_ms(0, 40);
     std::map<int, std::string> uninterrupted;
     int mid_run = 0;  // kills that left some but not all generations committed
     for (int k = 0; k < 20; ++k) {
@@ -70,15 +87,19 @@ TEST_CASE("20 evolve runs killed with SIGKILL at seeded random moments resume to
             uninterrupted[seed] = digest(full);
         }
         const auto run = dir / ("run-" + std::to_string(k) + ".db");
+        const int after = after_generation(draw);
         const int wait = delay_ms(draw);
-        const auto start = std::chrono::steady_clock::now();
+        std::optional<std::chrono::steady_clock::time_point> reached;
         test::run_cli_killed_when({"evolve", "--config", (dir / "c.json").string(), "--db", run.string(), "--seed",
                                    std::to_string(seed), "--threads", k % 2 ? "1" : "2", "--quiet"},
                                   [&] {
-                                      return std::chrono::steady_clock::now() - start >=
-                                             std::chrono::milliseconds(wait);
+                                      if (!reached && committed_generations(run) >= after) {
+                                          reached = std::chrono::steady_clock::now();
+                                      }
+                                      return reached && std::chrono::steady_clock::now() - *reached >=
+                                                            std::chrono::milliseconds(wait);
                                   });
-        INFO("run " << k << ", killed after " << wait << " ms");
+        INFO("run " << k << ", killed " << wait << " ms after generation " << after << " was committed");
         const std::string check = integrity(run);
         CHECK((check == "ok" || check == "absent"));
         if (check == "ok") {
