@@ -11,6 +11,8 @@
 #include <cstdio>
 #include <deque>
 #include <fstream>
+
+#include <zlib.h>
 #include <map>
 #include <set>
 #include <thread>
@@ -360,13 +362,55 @@ void record_kb(db::Connection& connection, const std::string& name, const std::s
     upsert.step();
 }
 
+}  // namespace
+
+void gunzip_file(const fs::path& in, const fs::path& out) {
+    gzFile file = gzopen(in.c_str(), "rb");
+    if (file == nullptr) throw DataError(concat(in.string(), ": cannot be opened"));
+    if (gzdirect(file) == 1) {  // zlib would pass plain bytes through
+        gzclose(file);
+        throw DataError(concat(in.string(), ": not whole gzip data"));
+    }
+    std::ofstream target(out, std::ios::binary | std::ios::trunc);
+    if (!target) {
+        gzclose(file);
+        throw Error(concat("cannot write ", out.string()));
+    }
+    char buffer[1 << 16];
+    int read = 0;
+    while ((read = gzread(file, buffer, sizeof buffer)) > 0) target.write(buffer, read);
+    int code = Z_OK;
+    const bool failed = read < 0 || (gzerror(file, &code), code != Z_OK && code != Z_STREAM_END);
+    gzclose(file);
+    target.close();
+    if (failed || !target) {
+        fs::remove(out);
+        throw DataError(concat(in.string(), ": not whole gzip data"));
+    }
+}
+
+namespace {
+
 void make_kbs(const CampaignOptions& options, const CampaignConfig& config, db::Connection& connection,
               const std::vector<RunState>& runs) {
     const fs::path kb_path = options.dir / kKbFile;
     fs::create_directories(kb_path.parent_path());
     std::string made_from;
     if (config.kb_from == KbFrom::file) {
-        export_kb(config.kb_file, "", kb_path, true);
+        if (config.kb_file.extension() == ".gz") {
+            // a compressed KB (the demo's fixture): copied from its uncompressed form
+            const fs::path plain = kb_path.parent_path() / ".kb-file-uncompressed.db";
+            gunzip_file(config.kb_file, plain);
+            try {
+                export_kb(plain, "", kb_path, true);
+            } catch (...) {
+                fs::remove(plain);
+                throw;
+            }
+            fs::remove(plain);
+        } else {
+            export_kb(config.kb_file, "", kb_path, true);
+        }
         made_from = concat("copy of ", config.kb_file.string());
     } else {
         std::vector<const RunState*> sources;

@@ -127,6 +127,11 @@ CampaignSummary run_campaign(const CampaignOptions& options);
 /// the folder of their logs under `dir`.
 void throw_on_failures(const CampaignSummary& summary, const std::filesystem::path& dir, std::ostream& err);
 
+/// Writes the gzip file `in` uncompressed to `out` (a shipped KB such as
+/// examples/fixtures/demo_kb.db.gz). Throws DataError naming `in` when it is
+/// not whole gzip data, Error when `out` cannot be written.
+void gunzip_file(const std::filesystem::path& in, const std::filesystem::path& out);
+
 /// Where a campaign's runs and KBs are, read from campaign.db.
 struct CampaignIndex {
     nlohmann::json config;

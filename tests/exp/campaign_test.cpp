@@ -326,7 +326,11 @@ TEST_CASE("every example campaign parses; the demo's KB fixture loads with rewar
     // the quick campaign's KB is the shipped fixture: a paper-size source run's KB, coarsened
     const auto quick = exp::CampaignConfig::load(examples / "campaign_quick.json");
     REQUIRE(quick.kb_from == exp::KbFrom::file);
-    auto connection = db::open_database(quick.kb_file, db::OpenMode::read_only);
+    CHECK(quick.kb_file.extension() == ".gz");
+    CHECK(std::filesystem::file_size(quick.kb_file) < (1u << 20));  // committed: under 1 MiB
+    test::TempDir dir;
+    exp::gunzip_file(quick.kb_file, dir / "fixture.db");
+    auto connection = db::open_database(dir / "fixture.db", db::OpenMode::read_only);
     const auto fixture = db::load_kb(connection);  // validated on load like any KB
     CHECK(fixture.kb.params().channels == 15);
     CHECK(fixture.kb.params().segment_width == 20);
@@ -334,5 +338,7 @@ TEST_CASE("every example campaign parses; the demo's KB fixture loads with rewar
     CHECK(fixture.kb.max_average() >= 3.0 / 24);  // segments of policies that scored several balls
     REQUIRE(fixture.kb.sources().size() == 1);
     CHECK(fixture.kb.sources()[0].last_generation == 4000);
-    CHECK(std::filesystem::file_size(quick.kb_file) < 4'000'000);
+    CHECK_THROWS_WITH(exp::gunzip_file(examples / "campaign_quick.json", dir / "x.db"),
+                      Catch::Contains("campaign_quick.json: not whole gzip data"));
+    CHECK_FALSE(std::filesystem::exists(dir / "x.db"));
 }
