@@ -9,6 +9,7 @@
 #include "core/error.hpp"
 #include "core/rng.hpp"
 #include "core/text.hpp"
+#include "core/version.hpp"
 #include "core/writer_lock.hpp"
 #include "db/database.hpp"
 #include "db/digest.hpp"
@@ -17,10 +18,6 @@
 #include "evo/selection.hpp"
 #include "kb/segments.hpp"
 #include "nn/mutation.hpp"
-
-#ifndef STEPSTONE_VERSION
-#define STEPSTONE_VERSION "unknown"
-#endif
 
 namespace stepstone::exp {
 
@@ -453,7 +450,7 @@ EvolveSummary run_evolve(const EvolveOptions& options) {
             run.seed = static_cast<std::int64_t>(*config.seed);
             run.config = config.to_json();
             run.generations = config.ea.generations;
-            insert_run(output.connection(), run, STEPSTONE_VERSION);
+            insert_run(output.connection(), run, full_version());
             if (config.kb) db::insert_kb(output.connection(), "run", kb::KnowledgeBase(kb_params(*config.kb)));
             output.commit();
         }
