@@ -9,6 +9,7 @@
 #include "db/digest.hpp"
 #include "db/kb_store.hpp"
 #include "exp/campaign.hpp"
+#include "support/db_files.hpp"
 #include "support/run_cli.hpp"
 #include "support/temp_dir.hpp"
 
@@ -65,11 +66,6 @@ std::int64_t finished_runs(const std::filesystem::path& dir) {
     }
 }
 
-std::string digest_of(const std::filesystem::path& run) {
-    auto connection = db::open_database(run, db::OpenMode::read_only);
-    return db::run_digest(connection);
-}
-
 // every generation of a run file gets best_reward = value (its best-of-run at any generation)
 void set_best(const std::filesystem::path& run, double value) {
     auto connection = db::open_database(run, db::OpenMode::read_write);
@@ -101,7 +97,7 @@ TEST_CASE("campaign runs every step; each run equals the same evolve run alone",
                                       (dir / "alone.db").string(), "--seed", "2", "--generations", "2", "--kb",
                                       (camp / "kb" / "kb.db").string(), "--treatment", "sum", "--quiet"});
     REQUIRE(alone.exit_code == 0);
-    CHECK(digest_of(dir / "alone.db") == digest_of(camp / "target" / "sum" / "seed-2.db"));
+    CHECK(test::file_digest(dir / "alone.db") == test::file_digest(camp / "target" / "sum" / "seed-2.db"));
 
     // a second start in the same directory is refused; --resume has nothing left to do
     const auto again = campaign(dir, "camp", {});
