@@ -1,0 +1,37 @@
+#pragma once
+
+#include <sys/types.h>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace stepstone {
+
+/// Starts `argv[0]` (a path, not searched in PATH) with `argv` as a child
+/// process whose stdout and stderr are appended to `log`. The child is sent
+/// SIGKILL when this process dies, so a killed parent leaves no child working
+/// behind its back. Returns the child's pid; throws Error if fork fails (a
+/// failed exec ends the child with status 127).
+pid_t spawn_child(const std::vector<std::string>& argv, const std::filesystem::path& log);
+
+/// One child that ended.
+struct ChildExit {
+    pid_t pid = 0;
+    int status = 0;  ///< as waitpid reports it
+};
+
+/// Reaps every child that has ended by now, without waiting.
+std::vector<ChildExit> reap_children();
+
+/// True when `status` (from waitpid) is a normal exit with code 0.
+bool exited_cleanly(int status);
+
+/// Why a child ended, for a failure message: "killed by signal N" when a
+/// signal ended it, otherwise `fallback`.
+std::string describe_exit(int status, const std::string& fallback);
+
+/// The last non-empty line of the text file `path`, or "no output".
+std::string last_line_of(const std::filesystem::path& path);
+
+}  // namespace stepstone

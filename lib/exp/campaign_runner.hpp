@@ -1,0 +1,98 @@
+#pragma once
+
+// How a campaign carries out its runs: the Runner keeps campaign.db's rows
+// and the progress line, and hands each run, as the arguments of its
+// `stepstone evolve`, to an executor that runs it somewhere (a child process
+// here; an MPI rank in campaign_mpi.cpp). Internal to lib/exp.
+
+#include <cstddef>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/progress.hpp"
+#include "db/connection.hpp"
+#include "exp/campaign.hpp"
+
+namespace stepstone::exp {
+
+/// One run to carry out: the `stepstone evolve` of one run file, its
+/// output appended to `log`.
+struct RunLaunch {
+    std::size_t index = 0;         ///< in the campaign's runs
+    std::filesystem::path config;  ///< the step's evolve config
+    std::filesystem::path db;      ///< the run file (resumed when it exists)
+    std::uint64_t seed = 0;
+    int generations = 0;
+    unsigned threads = 1;
+    bool resume = false;
+    std::optional<std::filesystem::path> kb;  ///< the shaping KB of a target run that uses one
+    std::optional<Treatment> treatment;       ///< set with kb
+    std::filesystem::path log;
+
+    /// The arguments of `stepstone evolve` (after the program name).
+    std::vector<std::string> evolve_args() const;
+};
+
+/// How a launched run ended.
+struct RunEnd {
+    std::size_t index = 0;
+    bool ok = false;    ///< the evolve ended with success (the run file is then checked)
+    std::string error;  ///< otherwise: why, in one line
+};
+
+/// Carries out runs, several at a time.
+class RunExecutor {
+public:
+    virtual ~RunExecutor() = default;
+    /// Runs that can go at once.
+    virtual std::size_t slots() const = 0;
+    /// Evaluation threads of each run when `at_once` runs of a step go together
+    /// and the user gave none.
+    virtual unsigned default_threads(std::size_t at_once) const = 0;
+    /// Starts a run; at most slots() are started and not yet returned by wait().
+    virtual void start(const RunLaunch& launch) = 0;
+    /// Waits a moment (about 0.1 s) and returns the runs that ended meanwhile.
+    virtual std::vector<RunEnd> wait() = 0;
+};
+
+/// Runs each run as a `stepstone evolve` child process of `program`, `jobs`
+/// at a time (0: every core), the cores shared out among them.
+std::unique_ptr<RunExecutor> make_process_executor(const std::filesystem::path& program, unsigned jobs);
+
+/// Carries out a campaign's runs through an executor, keeping their rows of
+/// campaign.db (the only writer there) and the progress line up to date.
+class Runner {
+public:
+    Runner(const CampaignOptions& options, db::Connection& connection, std::vector<RunState>& runs,
+           Progress& progress, RunExecutor& executor);
+
+    /// Runs the runs `indices` to the end (finished ones on disk are only
+    /// recorded, in `summary.skipped`); returns the failures, "file: error".
+    std::vector<std::string> execute(const std::vector<std::size_t>& indices, CampaignSummary& summary);
+
+private:
+    struct Active {
+        std::size_t index = 0;
+        double started = 0;
+    };
+
+    std::optional<RunFileState> existing_state(std::size_t k);
+    void mark_finished(std::size_t k, const RunFileState& on_disk, double wall_time);
+    RunLaunch launch_of(std::size_t k, unsigned threads) const;
+    std::optional<std::string> finish(const Active& done, const RunEnd& end);
+    void report(const std::vector<Active>& active);
+
+    const CampaignOptions& options_;
+    db::Connection& connection_;
+    std::vector<RunState>& runs_;
+    Progress& progress_;
+    RunExecutor& executor_;
+};
+
+/// The log file of `run` under `dir`: logs/<file with / as ->.log.
+std::filesystem::path run_log_path(const std::filesystem::path& dir, const PlannedRun& run);
+
+}  // namespace stepstone::exp

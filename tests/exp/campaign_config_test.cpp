@@ -1,0 +1,109 @@
+// CampaignConfig parsing and plan_runs, in process: the expectations come from
+// docs/transfer.md's table of keys and its plan (seed-major target runs).
+#include "exp/campaign_config.hpp"
+
+#include <catch2/catch.hpp>
+
+#include "core/error.hpp"
+#include "support/temp_dir.hpp"
+
+using namespace stepstone;
+using Catch::Matchers::Contains;
+
+namespace {
+
+const char* kTask = R"("task": {"kind": "target", "steps_per_start": 100, "starts": 1})";
+
+nlohmann::json parse(const std::string& text) { return nlohmann::json::parse(text); }
+
+exp::CampaignConfig from(const std::string& text) {
+    return exp::CampaignConfig::from_json(parse(text), "c.json", std::filesystem::current_path());
+}
+
+std::string target(const std::string& extra) {
+    return std::string(R"({"target": {"config": {)") + kTask + R"(}, )" + extra + "}}";
+}
+
+std::string error_of(const std::string& text) {
+    try {
+        from(text);
+    } catch (const ConfigError& e) {
+        return e.what();
+    }
+    return "no error";
+}
+
+}  // namespace
+
+TEST_CASE("campaign config: runs N with first_seed S gives seeds S to S + N - 1", "[exp][campaign][config]") {
+    const auto config = from(target(R"("runs": 3, "first_seed": 5, "treatments": ["none"])"));
+    CHECK(config.target.seeds == std::vector<std::uint64_t>{5, 6, 7});
+    CHECK_FALSE(config.source.has_value());
+    CHECK(from(target(R"("treatments": ["none"])")).target.seeds == std::vector<std::uint64_t>{1});
+    CHECK(from(target(R"("seeds": [9, 2], "treatments": ["none"])")).target.seeds ==
+          std::vector<std::uint64_t>{9, 2});
+}
+
+TEST_CASE("campaign config: the default treatments are all five in the paper's order",
+          "[exp][campaign][config]") {
+    test::TempDir dir;
+    test::write_file(dir / "kb.db", "");  // kb.file must exist; it is not read by the parse
+    const auto config = exp::CampaignConfig::from_json(
+        parse(std::string(R"({"kb": {"file": "kb.db"}, "target": {"config": {)") + kTask + "}}}"), "c.json",
+        dir.path());
+    REQUIRE(config.treatments.size() == 5);
+    CHECK(exp::to_string(config.treatments[0]) == std::string("none"));
+    CHECK(exp::to_string(config.treatments[1]) == std::string("sum"));
+    CHECK(exp::to_string(config.treatments[2]) == std::string("mo"));
+    CHECK(exp::to_string(config.treatments[3]) == std::string("sum-rand"));
+    CHECK(exp::to_string(config.treatments[4]) == std::string("mo-rand"));
+    CHECK(config.kb_from == exp::KbFrom::file);
+    CHECK(config.kb_file == dir / "kb.db");
+    CHECK(config.randomize_seed == 1);
+    CHECK(config.needs_kb());
+    CHECK(config.needs_randomized_kb());
+}
+
+TEST_CASE("campaign config: bad keys and values are refused naming the key",
+          "[exp][campaign][config][errors]") {
+    CHECK_THAT(error_of(target(R"("seeds": [1], "runs": 2)")),
+               Contains("c.json") && Contains("target.seeds"));
+    CHECK_THAT(error_of(target(R"("seeds": [1, 1], "treatments": ["none"])")), Contains("repeats a seed"));
+    CHECK_THAT(error_of(target(R"("seeds": [], "treatments": ["none"])")), Contains("non-empty array"));
+    CHECK_THAT(error_of(target(R"("treatments": ["none", "none"])")), Contains("names none twice"));
+    CHECK_THAT(error_of(target(R"("treatments": ["sum"])")), Contains("needs kb.file"));
+    CHECK_THAT(error_of(R"({"kb": {"from": "best"}})"), Contains("target is required"));
+    CHECK_THAT(error_of(target(R"("treatments": ["none"], "colour": 1)")), Contains("colour"));
+    CHECK_THAT(error_of(R"({"kb": {"from": "best", "file": "x.db"}, )" +
+                        target(R"("treatments": ["none"])").substr(1)),
+               Contains("cannot both be given"));
+}
+
+TEST_CASE("campaign plan: source runs by seed, then target runs seed-major in config order",
+          "[exp][campaign][config]") {
+    const auto config =
+        from(std::string(R"({"source": {"config": {)") + kTask +
+             R"(, "kb": {"segment_width": 20, "delta": 1.0}}, "seeds": [4, 2], "generations": 3},
+        "target": {"config": {)" +
+             kTask + R"(}, "runs": 2, "generations": 5, "treatments": ["mo", "none"]}})");
+    const auto plan = exp::plan_runs(config);
+    const std::vector<std::string> files{"source/seed-4.db",    "source/seed-2.db",
+                                         "target/mo/seed-1.db", "target/none/seed-1.db",
+                                         "target/mo/seed-2.db", "target/none/seed-2.db"};
+    REQUIRE(plan.size() == files.size());
+    for (std::size_t k = 0; k < plan.size(); ++k) {
+        INFO(k);
+        CHECK(plan[k].file == files[k]);
+        CHECK(plan[k].step == (k < 2 ? "source" : "target"));
+        CHECK(plan[k].generations == (k < 2 ? 3 : 5));
+    }
+    CHECK(plan[0].seed == 4);
+    CHECK(plan[4].seed == 2);
+    CHECK(exp::to_string(plan[4].treatment) == std::string("mo"));
+    CHECK(exp::to_string(plan[0].treatment) == std::string("none"));
+    // the stored form parses back to the same plan
+    const auto again =
+        exp::CampaignConfig::from_json(config.to_json(), "stored", std::filesystem::current_path());
+    CHECK(again.to_json() == config.to_json());
+    CHECK(exp::plan_runs(again).size() == plan.size());
+}
