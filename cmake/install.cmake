@@ -34,6 +34,11 @@ write_basic_package_version_file(${PROJECT_BINARY_DIR}/stepstoneConfigVersion.cm
 install(FILES ${PROJECT_BINARY_DIR}/stepstoneConfig.cmake ${PROJECT_BINARY_DIR}/stepstoneConfigVersion.cmake
     DESTINATION ${config_dir})
 
+# a sanitized build's libraries need the sanitizer runtimes in whatever links them
+set(STEPSTONE_PC_EXTRA_LIBS "")
+if(STEPSTONE_SANITIZE)
+    set(STEPSTONE_PC_EXTRA_LIBS "-fsanitize=address,undefined")
+endif()
 file(RELATIVE_PATH STEPSTONE_PC_TO_PREFIX /prefix/${CMAKE_INSTALL_LIBDIR}/pkgconfig /prefix)
 configure_file(${PROJECT_SOURCE_DIR}/cmake/stepstone.pc.in ${PROJECT_BINARY_DIR}/stepstone.pc @ONLY)
 install(FILES ${PROJECT_BINARY_DIR}/stepstone.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)
