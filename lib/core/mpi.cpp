@@ -108,9 +108,25 @@ Session::~Session() {
     if (!abandoned_) MPI_Finalize();
 }
 
+void Session::complete(void* request, const char* call) {
+    auto* handle = static_cast<MPI_Request*>(request);
+    for (int polls = 0;; ++polls) {
+        int done = 0;
+        check(MPI_Test(handle, &done, MPI_STATUS_IGNORE), call);
+        if (done) return;
+        if (cancel_ && cancel_()) {
+            MPI_Cancel(handle);  // best effort: the job is ending
+            throw Cancelled();
+        }
+        pause(polls);
+    }
+}
+
 void Session::send(int dest, int tag, std::string_view bytes) {
-    check(MPI_Send(bytes.data(), static_cast<int>(bytes.size()), MPI_BYTE, dest, tag, MPI_COMM_WORLD),
-          "MPI_Send");
+    MPI_Request request;
+    check(MPI_Isend(bytes.data(), static_cast<int>(bytes.size()), MPI_BYTE, dest, tag, MPI_COMM_WORLD, &request),
+          "MPI_Isend");
+    complete(&request, "MPI_Isend");
 }
 
 std::optional<Envelope> Session::poll() {
@@ -123,13 +139,16 @@ std::optional<Envelope> Session::poll() {
 
 Message Session::receive(const Envelope& envelope) {
     MPI_Status status;
-    check(MPI_Probe(envelope.source, envelope.tag, MPI_COMM_WORLD, &status), "MPI_Probe");
+    int flag = 0;
+    check(MPI_Iprobe(envelope.source, envelope.tag, MPI_COMM_WORLD, &flag, &status), "MPI_Iprobe");
+    if (!flag) throw Error("MPI: the message to receive is gone (internal)");
     int count = 0;
     check(MPI_Get_count(&status, MPI_BYTE, &count), "MPI_Get_count");
     Message message{envelope.source, envelope.tag, std::string(static_cast<std::size_t>(count), '\0')};
-    check(MPI_Recv(message.bytes.data(), count, MPI_BYTE, envelope.source, envelope.tag, MPI_COMM_WORLD,
-                   MPI_STATUS_IGNORE),
-          "MPI_Recv");
+    MPI_Request request;
+    check(MPI_Irecv(message.bytes.data(), count, MPI_BYTE, envelope.source, envelope.tag, MPI_COMM_WORLD, &request),
+          "MPI_Irecv");
+    complete(&request, "MPI_Irecv");
     return message;
 }
 
@@ -138,6 +157,7 @@ Message Session::receive(const Envelope& envelope) {
 bool built() { return false; }
 
 Session::Session() { require_built(); }
+void Session::complete(void*, const char*) {}
 Session::~Session() = default;
 void Session::send(int, int, std::string_view) { require_built(); }
 std::optional<Envelope> Session::poll() { return std::nullopt; }

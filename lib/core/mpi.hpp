@@ -9,10 +9,13 @@
 
 #include <sys/types.h>
 
+#include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
+
+#include "core/error.hpp"
 
 namespace stepstone::mpi {
 
@@ -21,6 +24,13 @@ bool built();
 
 /// Throws ConfigError ("built without Open MPI ...") when built() is false.
 void require_built();
+
+/// Thrown by a send or receive that the session's cancel check ended (see
+/// Session::set_cancel): the job is being torn down under this rank.
+class Cancelled : public Error {
+public:
+    Cancelled() : Error("the MPI job is being stopped") {}
+};
 
 /// A message waiting to be received.
 struct Envelope {
@@ -58,7 +68,13 @@ public:
     int size() const { return size_; }
     const std::vector<Peer>& peers() const { return peers_; }
 
-    /// Sends `bytes` to rank `dest` with `tag`.
+    /// Sends and receives are non-blocking underneath and wait by polling:
+    /// while they wait, `cancel` is asked, and when it says true they give up
+    /// with Cancelled. A peer that died mid-message would otherwise hold this
+    /// rank forever.
+    void set_cancel(std::function<bool()> cancel) { cancel_ = std::move(cancel); }
+
+    /// Sends `bytes` to rank `dest` with `tag`; returns once they are on their way.
     void send(int dest, int tag, std::string_view bytes);
     /// The next message waiting (from any rank, any tag), if any.
     std::optional<Envelope> poll();
@@ -88,11 +104,14 @@ public:
 
 private:
     static void pause(int polls);
+    // polls `request` (an MPI_Request) to completion, giving up with Cancelled
+    void complete(void* request, const char* call);
 
     int rank_ = 0;
     int size_ = 1;
     std::vector<Peer> peers_;
     bool abandoned_ = false;
+    std::function<bool()> cancel_;
 };
 
 }  // namespace stepstone::mpi

@@ -84,6 +84,23 @@ public:
     unsigned default_threads(std::size_t) const override { return 1; }
 
     void start(const RunLaunch& launch) override {
+        try {
+            start_on_a_rank(launch);
+        } catch (const mpi::Cancelled&) {
+            lost();
+        }
+    }
+
+    std::vector<RunEnd> wait() override {
+        try {
+            return wait_for_ranks();
+        } catch (const mpi::Cancelled&) {
+            lost();
+        }
+    }
+
+private:
+    void start_on_a_rank(const RunLaunch& launch) {
         if (session_.size() == 1) {
             alone_.push_back(launch);  // run by wait(), here
             return;
@@ -97,7 +114,7 @@ public:
         throw Error("campaign: no free rank for a run (internal)");
     }
 
-    std::vector<RunEnd> wait() override {
+    std::vector<RunEnd> wait_for_ranks() {
         std::vector<RunEnd> ended;
         for (const auto& launch : alone_) ended.push_back(run_in_process(launch));
         alone_.clear();
@@ -117,7 +134,6 @@ public:
         return ended;
     }
 
-private:
     // mpirun is ending the job: name the dead rank and its run, and leave without MPI_Finalize
     [[noreturn]] void lost() {
         const auto dead = session_.lost_ranks();

@@ -69,6 +69,16 @@ public:
 
     std::vector<Evaluation> evaluate(const std::vector<nn::Genome>& genomes,
                                      std::vector<float>* behaviours) override {
+        try {
+            return evaluate_over_ranks(genomes, behaviours);
+        } catch (const mpi::Cancelled&) {
+            throw EvaluationInterrupted{leader_.lose()};  // a message to or from a rank that died
+        }
+    }
+
+private:
+    std::vector<Evaluation> evaluate_over_ranks(const std::vector<nn::Genome>& genomes,
+                                                std::vector<float>* behaviours) {
         const std::size_t n = genomes.size();
         const std::size_t width = task_->behaviour_size();
         const bool want = behaviours != nullptr;
@@ -125,7 +135,6 @@ public:
         return results;
     }
 
-private:
     MpiLeader& leader_;
     mpi::Session& session_;
     std::shared_ptr<const sim::Task> task_;
@@ -140,6 +149,10 @@ std::string MpiLeader::lose() {
     std::string dead;
     for (int rank : session_.lost_ranks()) dead += concat(dead.empty() ? "" : ", ", session_.describe(rank));
     return dead.empty() ? dead : dead + " died";
+}
+
+MpiLeader::MpiLeader(mpi::Session& session) : session_(session) {
+    session_.set_cancel([] { return InterruptGuard::received() != 0; });
 }
 
 MpiLeader::~MpiLeader() {

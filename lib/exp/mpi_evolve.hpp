@@ -28,7 +28,9 @@ enum MpiTag : int {
 /// told to stop when it goes (unless the job is lost: abandon()).
 class MpiLeader {
 public:
-    explicit MpiLeader(mpi::Session& session) : session_(session) {}
+    /// Sends and receives of `session` give up (mpi::Cancelled) once SIGINT
+    /// or SIGTERM arrived under an InterruptGuard: mpirun ending the job.
+    explicit MpiLeader(mpi::Session& session);
     ~MpiLeader();
     MpiLeader(const MpiLeader&) = delete;
     MpiLeader& operator=(const MpiLeader&) = delete;

@@ -29,9 +29,10 @@ std::vector<std::string> CliResult::err_lines() const {
 
 namespace {
 
-// the binary and `args` as execv wants them
+// the binary and `args` as execv wants them (or a whole command line)
 struct Argv {
-    explicit Argv(const std::vector<std::string>& args) : storage{STEPSTONE_BINARY} {
+    explicit Argv(const std::vector<std::string>& args) : Argv(STEPSTONE_BINARY, args) {}
+    Argv(const std::string& program, const std::vector<std::string>& args) : storage{program} {
         storage.insert(storage.end(), args.begin(), args.end());
         for (auto& arg : storage) pointers.push_back(arg.data());
         pointers.push_back(nullptr);
@@ -43,11 +44,15 @@ struct Argv {
 }  // namespace
 
 CliResult run_cli(const std::vector<std::string>& args, const std::filesystem::path& cwd) {
+    return run_program(Argv(args).storage, cwd);
+}
+
+CliResult run_program(const std::vector<std::string>& command, const std::filesystem::path& cwd) {
     TempDir capture;
     const auto out_path = capture / "out";
     const auto err_path = capture / "err";
 
-    Argv argv(args);
+    Argv argv(command.front(), std::vector<std::string>(command.begin() + 1, command.end()));
     const pid_t pid = ::fork();
     if (pid < 0) throw std::runtime_error("fork failed");
     if (pid == 0) {
@@ -59,7 +64,7 @@ CliResult run_cli(const std::vector<std::string>& args, const std::filesystem::p
         ::dup2(out, 1);
         ::dup2(err, 2);
         if (!cwd.empty() && ::chdir(cwd.c_str()) != 0) ::_exit(127);
-        ::execv(argv.pointers[0], argv.pointers.data());
+        ::execvp(argv.pointers[0], argv.pointers.data());
         ::_exit(127);
     }
     int status = 0;
@@ -97,10 +102,16 @@ bool run_cli_killed_when(const std::vector<std::string>& args, const std::functi
 CliResult run_cli_signalled_when(const std::vector<std::string>& args, const std::function<bool()>& ready,
                                  const std::function<void()>& while_running, int signal, double* seconds_to_exit,
                                  std::chrono::seconds timeout) {
+    return run_program_signalled_when(Argv(args).storage, ready, while_running, signal, seconds_to_exit, timeout);
+}
+
+CliResult run_program_signalled_when(const std::vector<std::string>& command, const std::function<bool()>& ready,
+                                     const std::function<void()>& while_running, int signal,
+                                     double* seconds_to_exit, std::chrono::seconds timeout) {
     TempDir capture;
     const auto out_path = capture / "out";
     const auto err_path = capture / "err";
-    Argv argv(args);
+    Argv argv(command.front(), std::vector<std::string>(command.begin() + 1, command.end()));
     const pid_t pid = ::fork();
     if (pid < 0) throw std::runtime_error("fork failed");
     if (pid == 0) {
@@ -110,7 +121,7 @@ CliResult run_cli_signalled_when(const std::vector<std::string>& args, const std
         ::dup2(in, 0);
         ::dup2(out, 1);
         ::dup2(err, 2);
-        ::execv(argv.pointers[0], argv.pointers.data());
+        ::execvp(argv.pointers[0], argv.pointers.data());
         ::_exit(127);
     }
     const auto deadline = std::chrono::steady_clock::now() + timeout;
@@ -130,6 +141,14 @@ CliResult run_cli_signalled_when(const std::vector<std::string>& args, const std
     result.out = read_file(out_path);
     result.err = read_file(err_path);
     return result;
+}
+
+std::vector<std::string> mpirun_command(int ranks, const std::vector<std::string>& args) {
+    // CI runs as root, and has fewer cores than some tests have ranks
+    std::vector<std::string> command{"mpirun", "--allow-run-as-root", "--oversubscribe", "-np",
+                                     std::to_string(ranks), STEPSTONE_BINARY};
+    command.insert(command.end(), args.begin(), args.end());
+    return command;
 }
 
 }  // namespace stepstone::test

@@ -1,0 +1,247 @@
+// evolve --mpi and campaign --mpi under a real mpirun. The oracle is the same
+// command without MPI: a run's digest, a campaign's run digests.
+#include <signal.h>
+
+#include <algorithm>
+#include <catch2/catch.hpp>
+#include <chrono>
+#include <fstream>
+#include <map>
+#include <thread>
+
+#include "db/database.hpp"
+#include "db/digest.hpp"
+#include "support/run_cli.hpp"
+#include "support/temp_dir.hpp"
+
+using namespace stepstone;
+using Catch::Matchers::Contains;
+namespace fs = std::filesystem;
+
+namespace {
+
+// a source run that observes its KB every generation
+const char* kSource = R"({"task": {"kind": "source", "steps_per_start": 200, "starts": 1},
+  "ea": {"population_size": 8, "generations": 4},
+  "kb": {"segment_width": 20, "delta": 1.83, "period": 1}})";
+
+// one source run, its KB, 5 treatments x 2 seeds (the tiny campaign of tests/exp)
+std::string campaign_json(int target_generations) {
+    return R"({
+  "source": {"config": {"task": {"kind": "source", "steps_per_start": 200, "starts": 1},
+      "ea": {"population_size": 8}, "kb": {"segment_width": 20, "delta": 1.83, "period": 1}},
+    "seeds": [4], "generations": 3},
+  "kb": {"from": "best"},
+  "randomize_seed": 9,
+  "target": {"config": {"task": {"kind": "target", "steps_per_start": 200, "starts": 1}, "ea": {"population_size": 8}},
+    "runs": 2, "generations": )" +
+           std::to_string(target_generations) + "}}";
+}
+
+std::string digest_of(const fs::path& run) {
+    auto connection = db::open_database(run, db::OpenMode::read_only);
+    return db::run_digest(connection);
+}
+
+// campaign_run.id -> digest of the finished runs
+std::map<std::int64_t, std::string> digests(const fs::path& dir) {
+    auto connection = db::open_database(dir / "campaign.db", db::OpenMode::read_only);
+    auto rows =
+        connection.prepare("SELECT id, digest FROM campaign_run WHERE status = 'finished' ORDER BY id");
+    std::map<std::int64_t, std::string> out;
+    while (rows.step()) out[rows.column_int(0)] = rows.column_text(1);
+    return out;
+}
+
+std::int64_t finished_runs(const fs::path& dir) {
+    try {
+        auto connection = db::open_database(dir / "campaign.db", db::OpenMode::read_only);
+        return connection.query_int("SELECT count(*) FROM campaign_run WHERE status = 'finished'")
+            .value_or(0);
+    } catch (const std::exception&) {
+        return 0;
+    }
+}
+
+// the pid of MPI rank `rank` of the job whose command line holds `marker`, 0 if none
+pid_t rank_pid(int rank, const std::string& marker) {
+    for (const auto& entry : fs::directory_iterator("/proc")) {
+        const std::string name = entry.path().filename();
+        if (name.find_first_not_of("0123456789") != std::string::npos) continue;
+        std::string cmdline = test::read_file(entry.path() / "cmdline");
+        std::replace(cmdline.begin(), cmdline.end(), '\0', ' ');
+        if (cmdline.find(marker) == std::string::npos || cmdline.find("mpirun") != std::string::npos)
+            continue;
+        std::string environ = test::read_file(entry.path() / "environ");
+        std::replace(environ.begin(), environ.end(), '\0', '\n');
+        if (("\n" + environ).find("\nOMPI_COMM_WORLD_RANK=" + std::to_string(rank) + "\n") !=
+            std::string::npos) {
+            return static_cast<pid_t>(std::stoi(name));
+        }
+    }
+    return 0;
+}
+
+}  // namespace
+
+TEST_CASE("evolve --mpi with 2 and 3 ranks gives the single-process digest, KB lookups included",
+          "[mpi][evolve]") {
+    test::TempDir dir;
+    test::write_file(dir / "source.json", kSource);
+    const auto source = [&](const std::string& db) {
+        return std::vector<std::string>{
+            "evolve", "--config", (dir / "source.json").string(), "--db", (dir / db).string(), "--seed",
+            "3",      "--quiet"};
+    };
+    REQUIRE(test::run_cli(source("one.db")).exit_code == 0);
+    for (int ranks : {2, 3}) {
+        auto args = source("ranks-" + std::to_string(ranks) + ".db");
+        args.emplace_back("--mpi");
+        const auto result = test::run_program(test::mpirun_command(ranks, args));
+        INFO(ranks << " ranks: " << result.err);
+        REQUIRE(result.exit_code == 0);
+        CHECK_THAT(result.out, Contains("generations 4"));
+        CHECK(digest_of(dir / ("ranks-" + std::to_string(ranks) + ".db")) == digest_of(dir / "one.db"));
+    }
+
+    // a target run shaped by the source run's KB: the ranks compute r_max
+    REQUIRE(test::run_cli({"kb", "export", (dir / "one.db").string(), "--out", (dir / "kb.db").string()})
+                .exit_code == 0);
+    test::write_file(dir / "target.json", R"({"task": {"kind": "target", "steps_per_start": 200, "starts": 1},
+      "ea": {"population_size": 8, "generations": 3}})");
+    const std::vector<std::string> target{"evolve",
+                                          "--config",
+                                          (dir / "target.json").string(),
+                                          "--seed",
+                                          "5",
+                                          "--kb",
+                                          (dir / "kb.db").string(),
+                                          "--treatment",
+                                          "mo",
+                                          "--quiet",
+                                          "--db"};
+    auto alone = target;
+    alone.push_back((dir / "mo-1.db").string());
+    REQUIRE(test::run_cli(alone).exit_code == 0);
+    auto spread = target;
+    spread.push_back((dir / "mo-3.db").string());
+    spread.emplace_back("--mpi");
+    const auto result = test::run_program(test::mpirun_command(3, spread));
+    INFO(result.err);
+    REQUIRE(result.exit_code == 0);
+    CHECK(digest_of(dir / "mo-3.db") == digest_of(dir / "mo-1.db"));
+}
+
+TEST_CASE("campaign --mpi with 3 ranks gives the run digests of the single-process campaign",
+          "[mpi][campaign]") {
+    test::TempDir dir;
+    test::write_file(dir / "c.json", campaign_json(2));
+    const auto one =
+        test::run_cli({"campaign", (dir / "c.json").string(), "--dir", (dir / "one").string(), "--quiet"});
+    REQUIRE(one.exit_code == 0);
+    const auto result = test::run_program(test::mpirun_command(
+        3, {"campaign", (dir / "c.json").string(), "--dir", (dir / "three").string(), "--quiet", "--mpi"}));
+    INFO(result.err);
+    REQUIRE(result.exit_code == 0);
+    CHECK_THAT(result.out, Contains("finished 11") && Contains("failed 0"));
+    const auto expected = digests(dir / "one");
+    CHECK(expected.size() == 11);
+    CHECK(digests(dir / "three") == expected);
+    CHECK(fs::exists(dir / "three" / "kb" / "kb-rand.db"));
+}
+
+TEST_CASE("a rank killed mid-campaign: one line naming it and its run, then --resume on 2 ranks ends equal",
+          "[mpi][campaign][resume]") {
+    test::TempDir dir;
+    test::write_file(dir / "c.json", campaign_json(30));
+    const auto killed = dir / "killed";
+    pid_t victim = 0;
+    const auto result = test::run_program_signalled_when(
+        test::mpirun_command(
+            3, {"campaign", (dir / "c.json").string(), "--dir", killed.string(), "--quiet", "--mpi"}),
+        [&] { return finished_runs(killed) >= 3; },
+        [&] {
+            victim = rank_pid(1, killed.string());
+            if (victim > 0) ::kill(victim, SIGKILL);
+        },
+        0);
+    REQUIRE(victim > 0);
+    INFO(result.err);
+    CHECK(result.exit_code != 0);
+    const auto done_before = finished_runs(killed);
+    CHECK(done_before < 11);
+    // rank 0's line: the rank, its pid and the run it had
+    CHECK_THAT(result.err,
+               Contains("stepstone: error: campaign stopped: rank 1 (pid " + std::to_string(victim)) &&
+                   Contains("died while running " + killed.string() + "/target/") &&
+                   Contains("continue with --resume"));
+
+    const auto resumed =
+        test::run_program(test::mpirun_command(2, {"campaign", (dir / "c.json").string(), "--dir",
+                                                   killed.string(), "--quiet", "--mpi", "--resume"}));
+    INFO(resumed.err);
+    REQUIRE(resumed.exit_code == 0);
+    const auto whole =
+        test::run_cli({"campaign", (dir / "c.json").string(), "--dir", (dir / "whole").string(), "--quiet"});
+    REQUIRE(whole.exit_code == 0);
+    INFO(done_before << " runs finished before the kill");
+    CHECK(digests(killed) == digests(dir / "whole"));
+    CHECK(digests(killed).size() == 11);
+}
+
+TEST_CASE(
+    "a rank killed mid-run of evolve --mpi: one line, the file at a committed generation, resume ends equal",
+    "[mpi][evolve][resume]") {
+    test::TempDir dir;
+    std::string config = kSource;
+    config.replace(config.find("\"generations\": 4"), 16, "\"generations\": 60");
+    test::write_file(dir / "long.json", config);
+    const auto run = dir / "run.db";
+    REQUIRE(test::run_cli({"evolve", "--config", (dir / "long.json").string(), "--db",
+                           (dir / "whole.db").string(), "--seed", "2", "--quiet"})
+                .exit_code == 0);
+    pid_t victim = 0;
+    const auto result = test::run_program_signalled_when(
+        test::mpirun_command(3, {"evolve", "--config", (dir / "long.json").string(), "--db", run.string(),
+                                 "--seed", "2", "--quiet", "--mpi"}),
+        [&] {
+            if (!fs::exists(run)) return false;
+            try {
+                auto connection = db::open_database(run, db::OpenMode::read_only);
+                return connection.query_int("SELECT count(*) FROM generation").value_or(0) >= 3;
+            } catch (const std::exception&) {
+                return false;
+            }
+        },
+        [&] {
+            victim = rank_pid(2, run.string());
+            if (victim > 0) ::kill(victim, SIGKILL);
+        },
+        0);
+    REQUIRE(victim > 0);
+    INFO(result.err);
+    CHECK(result.exit_code != 0);
+    CHECK_THAT(result.err,
+               Contains("stepstone: error: " + run.string() + ": rank 2 (pid " + std::to_string(victim)) &&
+                   Contains("died; stopped after generation") && Contains("--resume --mpi"));
+    const auto resumed = test::run_program(
+        test::mpirun_command(2, {"evolve", "--db", run.string(), "--resume", "--quiet", "--mpi"}));
+    INFO(resumed.err);
+    REQUIRE(resumed.exit_code == 0);
+    CHECK(digest_of(run) == digest_of(dir / "whole.db"));
+}
+
+TEST_CASE("bad input under mpirun: rank 0's one error line, the other ranks let go, nothing written",
+          "[mpi][errors]") {
+    test::TempDir dir;
+    test::write_file(dir / "bad.json", R"({"ea": {"population_size": 10}})");
+    const auto result = test::run_program(test::mpirun_command(
+        2, {"evolve", "--config", (dir / "bad.json").string(), "--db", (dir / "run.db").string(), "--mpi"}));
+    CHECK(result.exit_code == 2);
+    CHECK_THAT(result.err, Contains("stepstone: error: ") && Contains("population_size"));
+    CHECK_FALSE(fs::exists(dir / "run.db"));
+    const auto jobs = test::run_program(test::mpirun_command(
+        2, {"campaign", (dir / "bad.json").string(), "--dir", (dir / "c").string(), "--mpi", "--jobs", "2"}));
+    CHECK(jobs.exit_code == 2);
+    CHECK_THAT(jobs.err, Contains("--jobs does not apply with --mpi"));
+}
