@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <chrono>
+#include <cstdlib>
 #include <fstream>
 #include <map>
 #include <thread>
@@ -16,6 +17,7 @@
 
 using namespace stepstone;
 using Catch::Matchers::Contains;
+using Catch::Matchers::StartsWith;
 namespace fs = std::filesystem;
 
 namespace {
@@ -244,4 +246,17 @@ TEST_CASE("bad input under mpirun: rank 0's one error line, the other ranks let 
         2, {"campaign", (dir / "bad.json").string(), "--dir", (dir / "c").string(), "--mpi", "--jobs", "2"}));
     CHECK(jobs.exit_code == 2);
     CHECK_THAT(jobs.err, Contains("--jobs does not apply with --mpi"));
+}
+
+TEST_CASE("bench mpi times evolve --mpi on 2 ranks against 2 threads in one process", "[mpi][bench]") {
+    // the case starts mpirun itself: CI runs as root on few cores
+    ::setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
+    ::setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
+    ::setenv("OMPI_MCA_rmaps_base_oversubscribe", "1", 1);
+    const auto result = test::run_cli({"bench", "mpi", "--quick", "--csv"});
+    INFO(result.err);
+    REQUIRE(result.exit_code == 0);
+    CHECK_THAT(result.out, StartsWith("case,baseline_per_s,candidate_per_s,ratio\nmpi,"));
+    const auto list = test::run_cli({"bench", "--list"});
+    CHECK_THAT(list.out, Contains("2 MPI ranks vs 1 process on 2 threads"));
 }
