@@ -3,6 +3,7 @@
 #include <chrono>
 #include <csignal>
 #include <fstream>
+#include <iostream>
 #include <map>
 #include <thread>
 
@@ -62,13 +63,17 @@ RunEnd run_in_process(const RunLaunch& launch) {
     options.progress = ProgressMode::quiet;
     options.stop_on_signals = false;  // the MPI job's signals are rank 0's business
     RunEnd end{launch.index, true, ""};
+    // the run's warnings and error go to its log, as a child process's would
+    std::ofstream log(launch.log, std::ios::app);
+    std::streambuf* const stderr_buffer = std::cerr.rdbuf(log.rdbuf());
     try {
         run_evolve(options);
     } catch (const std::exception& e) {
         end.ok = false;
         end.error = one_line(e.what());
-        std::ofstream(launch.log, std::ios::app) << "stepstone: error: " << end.error << "\n";
+        std::cerr << "stepstone: error: " << end.error << "\n";
     }
+    std::cerr.rdbuf(stderr_buffer);
     return end;
 }
 
@@ -79,6 +84,8 @@ public:
     std::size_t slots() const override {
         return session_.size() > 1 ? static_cast<std::size_t>(session_.size() - 1) : 1;
     }
+
+    bool runs_here() const override { return session_.size() == 1; }
 
     // a rank is a core (Slurm's --ntasks); more threads with --threads and --cpus-per-task
     unsigned default_threads(std::size_t) const override { return 1; }
