@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cstdlib>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <thread>
 
@@ -84,6 +85,20 @@ pid_t rank_pid(int rank, const std::string& marker) {
     return 0;
 }
 
+// `args` under mpirun on `ranks` ranks, rank `victim_rank` killed with SIGKILL once `ready()`
+// holds; `victim` receives its pid (0: not found)
+test::CliResult run_and_kill_rank(int ranks, const std::vector<std::string>& args, int victim_rank,
+                                  const std::string& marker, const std::function<bool()>& ready,
+                                  pid_t& victim) {
+    return test::run_program_signalled_when(
+        test::mpirun_command(ranks, args), ready,
+        [&] {
+            victim = rank_pid(victim_rank, marker);
+            if (victim > 0) ::kill(victim, SIGKILL);
+        },
+        0);
+}
+
 }  // namespace
 
 TEST_CASE("evolve --mpi with 2 and 3 ranks gives the single-process digest, KB lookups included",
@@ -158,15 +173,9 @@ TEST_CASE("a rank killed mid-campaign: one line naming it and its run, then --re
     test::write_file(dir / "c.json", campaign_json(30));
     const auto killed = dir / "killed";
     pid_t victim = 0;
-    const auto result = test::run_program_signalled_when(
-        test::mpirun_command(
-            3, {"campaign", (dir / "c.json").string(), "--dir", killed.string(), "--quiet", "--mpi"}),
-        [&] { return finished_runs(killed) >= 3; },
-        [&] {
-            victim = rank_pid(1, killed.string());
-            if (victim > 0) ::kill(victim, SIGKILL);
-        },
-        0);
+    const auto result = run_and_kill_rank(
+        3, {"campaign", (dir / "c.json").string(), "--dir", killed.string(), "--quiet", "--mpi"}, 1,
+        killed.string(), [&] { return finished_runs(killed) >= 3; }, victim);
     REQUIRE(victim > 0);
     INFO(result.err);
     CHECK(result.exit_code != 0);
@@ -203,23 +212,19 @@ TEST_CASE(
                            (dir / "whole.db").string(), "--seed", "2", "--quiet"})
                 .exit_code == 0);
     pid_t victim = 0;
-    const auto result = test::run_program_signalled_when(
-        test::mpirun_command(3, {"evolve", "--config", (dir / "long.json").string(), "--db", run.string(),
-                                 "--seed", "2", "--quiet", "--mpi"}),
-        [&] {
-            if (!fs::exists(run)) return false;
-            try {
-                auto connection = db::open_database(run, db::OpenMode::read_only);
-                return connection.query_int("SELECT count(*) FROM generation").value_or(0) >= 3;
-            } catch (const std::exception&) {
-                return false;
-            }
-        },
-        [&] {
-            victim = rank_pid(2, run.string());
-            if (victim > 0) ::kill(victim, SIGKILL);
-        },
-        0);
+    const auto ready = [&] {
+        if (!fs::exists(run)) return false;
+        try {
+            auto connection = db::open_database(run, db::OpenMode::read_only);
+            return connection.query_int("SELECT count(*) FROM generation").value_or(0) >= 3;
+        } catch (const std::exception&) {
+            return false;
+        }
+    };
+    const auto result = run_and_kill_rank(3,
+                                          {"evolve", "--config", (dir / "long.json").string(), "--db",
+                                           run.string(), "--seed", "2", "--quiet", "--mpi"},
+                                          2, run.string(), ready, victim);
     REQUIRE(victim > 0);
     INFO(result.err);
     CHECK(result.exit_code != 0);
