@@ -5,6 +5,8 @@
 
 #include <unistd.h>
 
+#include <algorithm>
+#include <cctype>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -50,6 +52,19 @@ struct Scratch {
     Scratch& operator=(const Scratch&) = delete;
 };
 
+// the first line of `log` with words in it: mpirun states the problem before its banner lines
+std::string first_words_of(const fs::path& log) {
+    std::ifstream in(log);
+    std::string line;
+    while (std::getline(in, line)) {
+        if (std::any_of(line.begin(), line.end(),
+                        [](char c) { return std::isalpha(static_cast<unsigned char>(c)); })) {
+            return line;
+        }
+    }
+    return "no output";
+}
+
 // one side: a whole run of `generations` per call, in a fresh run file
 Work side(std::shared_ptr<Scratch> scratch, bool mpi) {
     return [scratch, mpi] {
@@ -77,7 +92,7 @@ Work side(std::shared_ptr<Scratch> scratch, bool mpi) {
         if (!exited_cleanly(status)) {
             throw Error(
                 concat("bench mpi: ", mpi ? "mpirun -np 2 stepstone evolve --mpi" : "stepstone evolve",
-                       " failed: ", describe_exit(status, last_line_of(log))));
+                       " failed: ", describe_exit(status, first_words_of(log))));
         }
         // generation 0 evaluates twice the population (initial_multiplier 2), then one population a
         // generation
