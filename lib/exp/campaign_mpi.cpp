@@ -156,8 +156,9 @@ private:
         std::string runs;
         for (int rank : dead) {
             const auto it = busy_.find(rank);
-            runs += concat(runs.empty() ? "" : "; ", session_.describe(rank), " died while running ",
-                           it == busy_.end() ? std::string("no run") : it->second.db.string());
+            runs += concat(runs.empty() ? "" : "; ", session_.describe(rank), " died ",
+                           it == busy_.end() ? std::string("between runs")
+                                             : concat("while running ", it->second.db.string()));
         }
         throw Error(concat("campaign stopped: ", runs, after));
     }

@@ -87,16 +87,31 @@ pid_t rank_pid(int rank, const std::string& marker) {
 
 // `args` under mpirun on `ranks` ranks, rank `victim_rank` killed with SIGKILL once `ready()`
 // holds; `victim` receives its pid (0: not found)
+// the run file (under `dir`) that process `pid` has open, empty if none
+std::string open_run_file(pid_t pid, const fs::path& dir) {
+    std::error_code error;
+    for (const auto& fd : fs::directory_iterator(fs::path("/proc") / std::to_string(pid) / "fd", error)) {
+        const std::string target = fs::read_symlink(fd.path(), error).string();
+        if (target.rfind(dir.string() + "/target/", 0) == 0 && target.size() > 3 &&
+            target.compare(target.size() - 3, 3, ".db") == 0) {
+            return target;
+        }
+    }
+    return "";
+}
+
+// `args` under mpirun on `ranks` ranks; rank `victim_rank` (found by `marker` in its command line)
+// is killed with SIGKILL once `ready(its pid)` holds; `victim` receives its pid
 test::CliResult run_and_kill_rank(int ranks, const std::vector<std::string>& args, int victim_rank,
-                                  const std::string& marker, const std::function<bool()>& ready,
+                                  const std::string& marker, const std::function<bool(pid_t)>& ready,
                                   pid_t& victim) {
     return test::run_program_signalled_when(
-        test::mpirun_command(ranks, args), ready,
+        test::mpirun_command(ranks, args),
         [&] {
             victim = rank_pid(victim_rank, marker);
-            if (victim > 0) ::kill(victim, SIGKILL);
+            return victim > 0 && ready(victim);
         },
-        0);
+        [&] { ::kill(victim, SIGKILL); }, 0);
 }
 
 }  // namespace
@@ -173,9 +188,17 @@ TEST_CASE("a rank killed mid-campaign: one line naming it and its run, then --re
     test::write_file(dir / "c.json", campaign_json(30));
     const auto killed = dir / "killed";
     pid_t victim = 0;
+    std::string running;  // the run file rank 1 had open when killed
     const auto result = run_and_kill_rank(
         3, {"campaign", (dir / "c.json").string(), "--dir", killed.string(), "--quiet", "--mpi"}, 1,
-        killed.string(), [&] { return finished_runs(killed) >= 3; }, victim);
+        killed.string(),
+        [&](pid_t pid) {
+            // killed while it writes a target run (not between two runs)
+            if (finished_runs(killed) < 3) return false;
+            running = open_run_file(pid, killed);
+            return !running.empty();
+        },
+        victim);
     REQUIRE(victim > 0);
     INFO(result.err);
     CHECK(result.exit_code != 0);
@@ -184,8 +207,7 @@ TEST_CASE("a rank killed mid-campaign: one line naming it and its run, then --re
     // rank 0's line: the rank, its pid and the run it had
     CHECK_THAT(result.err,
                Contains("stepstone: error: campaign stopped: rank 1 (pid " + std::to_string(victim)) &&
-                   Contains("died while running " + killed.string() + "/target/") &&
-                   Contains("continue with --resume"));
+                   Contains("died while running " + running + ";") && Contains("continue with --resume"));
 
     const auto resumed =
         test::run_program(test::mpirun_command(2, {"campaign", (dir / "c.json").string(), "--dir",
@@ -212,7 +234,7 @@ TEST_CASE(
                            (dir / "whole.db").string(), "--seed", "2", "--quiet"})
                 .exit_code == 0);
     pid_t victim = 0;
-    const auto ready = [&] {
+    const auto ready = [&](pid_t) {
         if (!fs::exists(run)) return false;
         try {
             auto connection = db::open_database(run, db::OpenMode::read_only);
