@@ -287,3 +287,25 @@ TEST_CASE("bench mpi times evolve --mpi on 2 ranks against 2 threads in one proc
     const auto list = test::run_cli({"bench", "--list"});
     CHECK_THAT(list.out, Contains("2 MPI ranks vs 1 process on 2 threads"));
 }
+
+TEST_CASE("campaign --mpi: a run that fails on its rank is recorded with its error; the others finish",
+          "[mpi][campaign][errors]") {
+    test::TempDir dir;
+    test::write_file(dir / "c.json", campaign_json(2));
+    const auto camp = dir / "camp";
+    const std::vector<std::string> args{
+        "campaign", (dir / "c.json").string(), "--dir", camp.string(), "--quiet", "--mpi"};
+    REQUIRE(test::run_program(test::mpirun_command(2, args)).exit_code == 0);
+    // one run file replaced by garbage: its rank's resume fails on it, as a child process would
+    test::write_file(camp / "target" / "sum" / "seed-2.db", std::string(4096, 'x'));
+    auto resume = args;
+    resume.emplace_back("--resume");
+    const auto result = test::run_program(test::mpirun_command(3, resume));
+    INFO(result.err);
+    CHECK(result.exit_code != 0);
+    CHECK_THAT(result.out, Contains("finished 10") && Contains("failed 1"));
+    CHECK_THAT(result.err, Contains("campaign: failed: target/sum/seed-2.db: ") &&
+                               Contains("1 run(s) failed (logs in " + (camp / "logs").string()));
+    CHECK_THAT(test::read_file(camp / "logs" / "target-sum-seed-2.log"), Contains("stepstone: error: "));
+    CHECK(digests(camp).size() == 10);
+}
