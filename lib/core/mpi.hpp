@@ -102,8 +102,11 @@ public:
     /// other ranks, which would never reach it.
     void abandon() { abandoned_ = true; }
 
-private:
+    /// Sleeps between two polls that found nothing: briefly for the first
+    /// `polls` (a reply is often on its way), then 1 ms.
     static void pause(int polls);
+
+private:
     // polls `request` (an MPI_Request) to completion, giving up with Cancelled
     void complete(void* request, const char* call);
 

@@ -136,7 +136,7 @@ private:
                 busy_.erase(message.source);
                 continue;
             }
-            std::this_thread::sleep_for(std::chrono::microseconds(polls < 50 ? 50 : 2000));
+            mpi::Session::pause(polls);
         }
         return ended;
     }

@@ -129,7 +129,7 @@ private:
                 results[k] = evaluate_one(*task_, genomes[k], dnn_, shaping_, behaviour);
                 ++done;
             } else {
-                std::this_thread::sleep_for(std::chrono::microseconds(polls < 50 ? 50 : 1000));
+                mpi::Session::pause(polls);
             }
         }
         return results;
