@@ -288,7 +288,7 @@ TEST_CASE("bench mpi times evolve --mpi on 2 ranks against 2 threads in one proc
     CHECK_THAT(list.out, Contains("2 MPI ranks vs 1 process on 2 threads"));
 }
 
-TEST_CASE("campaign --mpi: a run that fails on its rank is recorded with its error; the others finish",
+TEST_CASE("campaign --mpi: a run that fails on its rank is recorded with its error, the others finish",
           "[mpi][campaign][errors]") {
     test::TempDir dir;
     test::write_file(dir / "c.json", campaign_json(2));
