@@ -3,10 +3,13 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
 
 #include "commands.hpp"
 #include "core/error.hpp"
+#include "core/mpi.hpp"
 #include "exp/campaign.hpp"
+#include "exp/campaign_mpi.hpp"
 
 namespace stepstone::app {
 
@@ -20,6 +23,7 @@ struct CampaignFlags {
     bool resume = false;
     bool dry_run = false;
     bool quiet = false;
+    bool mpi = false;
 };
 
 void run_campaign_command(const CampaignFlags& flags) {
@@ -35,6 +39,17 @@ void run_campaign_command(const CampaignFlags& flags) {
     options.threads = flags.threads;
     options.resume = flags.resume;
     options.progress = flags.quiet ? ProgressMode::quiet : ProgressMode::automatic;
+    std::optional<mpi::Session> session;
+    std::optional<exp::MpiLeader> leader;  // tells the other ranks to stop, whatever happens
+    if (flags.mpi) {
+        session.emplace();
+        if (session->rank() != 0) {
+            exp::serve_campaign(*session);
+            return;
+        }
+        leader.emplace(*session);
+        options.mpi = &*leader;
+    }
     const auto summary = exp::run_campaign(options);
     std::cout << "runs " << summary.runs << "\n"
               << "finished " << summary.finished << "\n"
@@ -57,13 +72,20 @@ void add_campaign_command(CLI::App& app) {
     cmd->add_flag("--resume", flags->resume, "Continue the campaign in --dir: finished runs are kept, others resumed");
     cmd->add_flag("--dry-run", flags->dry_run, "Print the plan and its estimated cost; run nothing");
     cmd->add_flag("--quiet", flags->quiet, "No progress on stderr");
+    cmd->add_flag("--mpi", flags->mpi,
+                  "Under mpirun: rank 0 keeps campaign.db and hands whole runs to the other ranks (docs/scaling.md)");
     cmd->footer(example({"stepstone campaign examples/campaign_quick.json --dir camp --jobs 2",
                          "stepstone campaign examples/campaign_quick.json --dir camp --resume",
                          "stepstone campaign examples/campaign_paper.json --dry-run",
+                         "mpirun -np 8 stepstone campaign examples/campaign_quick.json --dir camp --mpi",
                          "stepstone stats camp"}));
     cmd->callback([flags] {
         if (!flags->dry_run && flags->dir.empty()) throw ConfigError("--dir is required (except with --dry-run)");
         if (flags->dry_run && flags->resume) throw ConfigError("--dry-run and --resume cannot be used together");
+        if (flags->mpi && flags->dry_run) throw ConfigError("--dry-run and --mpi cannot be used together");
+        if (flags->mpi && flags->jobs > 0) {
+            throw ConfigError("--jobs does not apply with --mpi: each rank but rank 0 runs one run at a time");
+        }
         run_campaign_command(*flags);
     });
 }

@@ -3,10 +3,13 @@
 #include <charconv>
 #include <iostream>
 #include <memory>
+#include <optional>
 
 #include "commands.hpp"
 #include "core/error.hpp"
+#include "core/mpi.hpp"
 #include "exp/evolution.hpp"
+#include "exp/mpi_evolve.hpp"
 
 namespace stepstone::app {
 
@@ -26,6 +29,7 @@ struct EvolveFlags {
     bool allow_config_change = false;
     bool force = false;
     bool quiet = false;
+    bool mpi = false;
 };
 
 // a seed as typed: digits only, within [0, 2^63 - 1] (no sign, no rounding, no wrap-around)
@@ -60,6 +64,19 @@ void run_evolve_command(const EvolveFlags& flags) {
     options.progress = flags.quiet ? ProgressMode::quiet : ProgressMode::automatic;
     if (options.resume && options.force) throw ConfigError("--resume and --force cannot be used together");
 
+    std::optional<mpi::Session> session;
+    std::optional<exp::MpiLeader> leader;  // tells the other ranks to stop, whatever happens
+    if (flags.mpi) {
+        session.emplace();
+        // a rank is a core (Slurm's --ntasks); more threads each with --threads
+        if (flags.threads == 0) options.threads = 1;
+        if (session->rank() != 0) {
+            exp::serve_evolve(*session, options.threads);
+            return;
+        }
+        leader.emplace(*session);
+        options.mpi = &*leader;
+    }
     const auto summary = exp::run_evolve(options);
     if (summary.was_finished) {
         std::cerr << flags.db << ": already at generation " << summary.generations_done << ", nothing to do\n";
@@ -90,6 +107,9 @@ void add_evolve_command(CLI::App& app) {
     cmd->add_flag("--allow-config-change", flags->allow_config_change, "With --resume: accept a config that differs");
     cmd->add_flag("--force", flags->force, "Replace an existing --db");
     cmd->add_flag("--quiet", flags->quiet, "No progress on stderr");
+    cmd->add_flag("--mpi", flags->mpi,
+                  "Under mpirun: each generation's evaluations spread over the ranks; rank 0 writes --db "
+                  "(docs/scaling.md)");
     cmd->footer(example({"stepstone evolve --config examples/source_quick.json --db run.db --seed 1",
                          "stepstone evolve --db run.db --resume --generations 40",
                          "stepstone evolve --config examples/target_quick.json --db sum.db --kb kb.db --treatment sum"}));

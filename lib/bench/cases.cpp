@@ -24,6 +24,7 @@ void add_builtin_cases([[maybe_unused]] Registry& registry) {
 #endif
 #if STEPSTONE_HAVE_EXP
     add_evolve_cases(registry);
+    add_mpi_cases(registry);
 #endif
 #if STEPSTONE_HAVE_REPORT
     add_render_cases(registry);

@@ -36,6 +36,11 @@ void add_diversity_cases(Registry& registry);
 void add_evolve_cases(Registry& registry);
 #endif
 
+#if STEPSTONE_HAVE_EXP
+/// `mpi`: evolve --mpi on 2 ranks vs 1 process on 2 threads (when built with Open MPI).
+void add_mpi_cases(Registry& registry);
+#endif
+
 #if STEPSTONE_HAVE_REPORT
 /// `render`: a trajectory figure with KB lookups vs replaying the policy.
 void add_render_cases(Registry& registry);

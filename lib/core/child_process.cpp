@@ -5,6 +5,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <csignal>
 #include <cstdio>
 #include <fstream>
@@ -39,6 +40,13 @@ pid_t spawn_child(const std::vector<std::string>& args, const std::filesystem::p
         ::_exit(127);
     }
     return pid;
+}
+
+int wait_child(pid_t pid) {
+    int status = 0;
+    while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+    }
+    return status;
 }
 
 std::vector<ChildExit> reap_children() {

@@ -21,6 +21,10 @@ struct ChildExit {
     int status = 0;  ///< as waitpid reports it
 };
 
+/// Waits for the child `pid` to end and returns its status (as waitpid
+/// reports it).
+int wait_child(pid_t pid);
+
 /// Reaps every child that has ended by now, without waiting.
 std::vector<ChildExit> reap_children();
 

@@ -4,6 +4,7 @@
 #include "core/text.hpp"
 #include "core/writer_lock.hpp"
 #include "db/database.hpp"
+#include "exp/campaign_mpi.hpp"
 #include "exp/campaign_runner.hpp"
 
 namespace stepstone::exp {
@@ -86,7 +87,8 @@ CampaignSummary run_campaign(const CampaignOptions& given) {
     CampaignSummary summary;
     summary.runs = runs.size();
     const double started = now_seconds();
-    const auto executor = make_process_executor(options.program, options.jobs);
+    const auto executor =
+        options.mpi ? make_mpi_executor(*options.mpi) : make_process_executor(options.program, options.jobs);
     Runner runner(options, connection, runs, progress, *executor);
 
     // source runs, the KB step once they all finished, then target runs

@@ -14,6 +14,8 @@
 
 namespace stepstone::exp {
 
+class MpiLeader;  // exp/mpi_evolve.hpp
+
 /// Options of `stepstone campaign`.
 struct CampaignOptions {
     std::filesystem::path config_path;
@@ -25,6 +27,9 @@ struct CampaignOptions {
     /// of a step that run at once (a lone source run gets every core).
     unsigned threads = 0;
     bool resume = false;
+    /// Set on rank 0 of `campaign --mpi`: the runs go to the job's other
+    /// ranks, one at a time each (exp/campaign_mpi.hpp), instead of child processes.
+    MpiLeader* mpi = nullptr;
     ProgressMode progress = ProgressMode::automatic;
 };
 

@@ -204,7 +204,7 @@ void Runner::report(const std::vector<Active>& active) {
     std::uint64_t done = 0;
     std::size_t finished = 0;
     for (auto& state : runs_) {
-        if (state.status == "running") {
+        if (state.status == "running" && executor_.runs_here()) {
             try {
                 if (auto on_disk = read_run_file(options_.dir / state.run.file)) {
                     state.generations_done = on_disk->generations_done;

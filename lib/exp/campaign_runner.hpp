@@ -56,6 +56,11 @@ public:
     virtual void start(const RunLaunch& launch) = 0;
     /// Waits a moment (about 0.1 s) and returns the runs that ended meanwhile.
     virtual std::vector<RunEnd> wait() = 0;
+    /// True when the runs write on this host, so that a running run's file
+    /// may be read for progress. SQLite's WAL index is shared memory: a file
+    /// being written on another host (an MPI rank's) is not read until its
+    /// run ended.
+    virtual bool runs_here() const { return true; }
 };
 
 /// Runs each run as a `stepstone evolve` child process of `program`, `jobs`

@@ -4,6 +4,7 @@
 #include <functional>
 #include <optional>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "evo/edit_distance.hpp"
@@ -31,7 +32,11 @@ Evaluation evaluate_genome(const sim::Task& task, const nn::Genome& genome, cons
 
 /// Thrown by evaluate_all when SIGINT or SIGTERM arrived under an
 /// InterruptGuard (core/writer_lock.hpp): the evaluations were abandoned.
-struct EvaluationInterrupted {};
+struct EvaluationInterrupted {
+    /// Empty for a user's stop; otherwise what went wrong (a rank of an MPI
+    /// job died), reported as an error.
+    std::string reason;
+};
 
 /// Evaluates every genome on `threads` threads (0 = all cores). Result k
 /// belongs to genome k whatever the thread count. If `behaviours` is not

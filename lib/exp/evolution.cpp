@@ -15,6 +15,7 @@
 #include "db/digest.hpp"
 #include "db/kb_store.hpp"
 #include "evo/pareto.hpp"
+#include "exp/mpi_evolve.hpp"
 #include "evo/selection.hpp"
 #include "kb/segments.hpp"
 #include "nn/mutation.hpp"
@@ -73,6 +74,10 @@ Member member_from_json(const nlohmann::json& json) {
 }  // namespace
 
 // ----------------------------------------------------------------- Evolution
+
+double shaped_r_max(const kb::KnowledgeBase& kb, std::span<const float> behaviour) {
+    return kb.r_max(kb::segment_behaviour(behaviour, sim::kChannels, kb.params().segment_width));
+}
 
 Evolution::Evolution(const EvolveConfig& config, std::uint64_t seed, unsigned threads)
     : config_(config), seed_(seed), threads_(resolve_threads(threads)), task_(sim::make_task(config.task)) {}
@@ -161,17 +166,22 @@ std::vector<Evaluation> Evolution::evaluate(const std::vector<nn::Genome>& genom
     const bool shape = shaping_kb_.has_value();
     const double started = now_seconds();
     std::vector<float> behaviours;
-    auto evaluations =
-        evaluate_all(*task_, genomes, config_.dnn, threads_, observe || shape ? &behaviours : nullptr);
-    time_simulation_ = now_seconds() - started;
     const std::size_t width = task_->behaviour_size();
-    if (shape) {
-        // lookups only read the KB: each policy's r_max goes to its own slot
-        const auto segment_width = shaping_kb_->params().segment_width;
-        parallel_for(genomes.size(), threads_, [&](std::size_t k) {
-            const std::span<const float> behaviour(behaviours.data() + k * width, width);
-            evaluations[k].r_max = shaping_kb_->r_max(kb::segment_behaviour(behaviour, sim::kChannels, segment_width));
-        });
+    std::vector<Evaluation> evaluations;
+    if (remote_) {
+        // simulation and lookups elsewhere: their time counts as simulation
+        evaluations = remote_->evaluate(genomes, observe ? &behaviours : nullptr);
+        time_simulation_ = now_seconds() - started;
+    } else {
+        evaluations = evaluate_all(*task_, genomes, config_.dnn, threads_, observe || shape ? &behaviours : nullptr);
+        time_simulation_ = now_seconds() - started;
+        if (shape) {
+            // lookups only read the KB: each policy's r_max goes to its own slot
+            parallel_for(genomes.size(), threads_, [&](std::size_t k) {
+                evaluations[k].r_max =
+                    shaped_r_max(*shaping_kb_, std::span<const float>(behaviours.data() + k * width, width));
+            });
+        }
     }
     time_kb_ = now_seconds() - started - time_simulation_;
     if (!observe) return evaluations;
@@ -345,8 +355,8 @@ void apply_transfer_options(EvolveConfig& config, const EvolveOptions& options, 
     }
 }
 
-// Loads the shaping KB read-only and checks it against the task and the
-// treatment; fills the config's digest and makes its path absolute.
+}  // namespace
+
 kb::KnowledgeBase load_shaping_kb(EvolveConfig& config) {
     auto& transfer = *config.transfer;
     const std::string file = transfer.kb.string();
@@ -382,6 +392,8 @@ kb::KnowledgeBase load_shaping_kb(EvolveConfig& config) {
     transfer.kb = std::filesystem::absolute(transfer.kb).lexically_normal();
     return std::move(stored.kb);
 }
+
+namespace {
 
 kb::KbParams kb_params(const KbConfig& config) {
     kb::KbParams params;
@@ -479,6 +491,12 @@ EvolveSummary run_evolve(const EvolveOptions& options) {
         evolution.attach_kb(std::move(stored.kb), stored.id, concat("seed-", seed));
     }
     if (shaping) evolution.attach_shaping(std::move(*shaping), config.treatment());
+    std::unique_ptr<RemoteEvaluator> remote;
+    if (options.mpi) {
+        // every rank gets the effective config: the shaping KB by its absolute path and digest
+        remote = options.mpi->start(config, evolution.shaping_kb(), name);
+        evolution.set_remote(remote.get());
+    }
 
     EvolveSummary summary;
     summary.seed = seed;
@@ -490,24 +508,27 @@ EvolveSummary run_evolve(const EvolveOptions& options) {
     Progress progress("generation", static_cast<std::uint64_t>(target), options.progress);
     const double started = now_seconds();
     std::int64_t evaluations_here = 0;
-    const InterruptGuard interrupts;  // Ctrl-C and SIGTERM stop at the next generation boundary
-    const auto stop = [&](int committed) {
+    std::optional<InterruptGuard> interrupts;  // Ctrl-C and SIGTERM stop at the next generation boundary
+    if (options.stop_on_signals) interrupts.emplace();
+    const auto stop = [&](int committed, const std::string& reason) {
         // every committed generation goes into the main file: no -wal / -shm is left beside it
         db::finish_writing(connection);
         connection.close();
-        throw Interrupted(concat(name, ": stopped ",
-                                 committed < 0 ? std::string("before generation 0")
-                                               : concat("after generation ", committed, " of ", target),
-                                 "; continue with: stepstone evolve --db ", name, " --resume"));
+        const std::string where = concat(
+            "stopped ",
+            committed < 0 ? std::string("before generation 0") : concat("after generation ", committed, " of ", target),
+            "; continue with: stepstone evolve --db ", name, " --resume", options.mpi ? " --mpi" : "");
+        if (!reason.empty()) throw Error(concat(name, ": ", reason, "; ", where));
+        throw Interrupted(concat(name, ": ", where));
     };
     while (evolution.generation() < target) {
         const int committed = evolution.generation();
-        if (InterruptGuard::received()) stop(committed);
+        if (InterruptGuard::received()) stop(committed, options.mpi ? options.mpi->lose() : "");
         GenerationWrite write;
         try {
             write = committed < 0 ? evolution.initialise() : evolution.epoch();
-        } catch (const EvaluationInterrupted&) {
-            stop(committed);  // the generation in progress is dropped: a resume redoes it identically
+        } catch (const EvaluationInterrupted& e) {
+            stop(committed, e.reason);  // the generation in progress is dropped: a resume redoes it identically
         }
         write_generation(connection, run, write);
         evaluations_here += write.stats.evaluations;

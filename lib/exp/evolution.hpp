@@ -18,6 +18,8 @@
 
 namespace stepstone::exp {
 
+class MpiLeader;  // exp/mpi_evolve.hpp
+
 /// One member of the population between generations.
 struct Member {
     std::int64_t id = 0;
@@ -31,6 +33,24 @@ struct Member {
     std::vector<double> objectives;  ///< the objectives in the selection that kept it
     double crowding = 0;             ///< crowding distance in that selection
 };
+
+/// Evaluates a generation's genomes somewhere else than this process's
+/// threads (exp/mpi_evolve.hpp: over the ranks of an MPI job). Result k
+/// belongs to genome k, with its r_max when the run has a shaping KB, and
+/// equals what evaluate_genome and shaped_r_max give here.
+class RemoteEvaluator {
+public:
+    virtual ~RemoteEvaluator() = default;
+    /// `behaviours`, when not null, receives genomes.size() x behaviour_size()
+    /// floats, genome by genome. Throws EvaluationInterrupted when the
+    /// evaluations are abandoned (a signal, a rank lost).
+    virtual std::vector<Evaluation> evaluate(const std::vector<nn::Genome>& genomes,
+                                             std::vector<float>* behaviours) = 0;
+};
+
+/// A policy's r_max under the shaping KB `kb`, from its first start's
+/// behaviour matrix.
+double shaped_r_max(const kb::KnowledgeBase& kb, std::span<const float> behaviour);
 
 /// The source-task evolution of the paper (NSGA-II on task reward and
 /// behavioural diversity, ORIGINAL.md 5-7), one generation at a time. Each
@@ -62,6 +82,9 @@ public:
     /// evaluated policy's r_max is computed and recorded, and enters the
     /// objectives as the treatment says (exp/treatment.hpp).
     void attach_shaping(kb::KnowledgeBase kb, Treatment treatment);
+    /// Evaluates every generation from now on with `remote` (kept by the
+    /// caller) instead of this process's threads; null: back to the threads.
+    void set_remote(RemoteEvaluator* remote) { remote_ = remote; }
     /// The KB that shapes the reward, null without one.
     const kb::KnowledgeBase* shaping_kb() const { return shaping_kb_ ? &*shaping_kb_ : nullptr; }
 
@@ -97,6 +120,7 @@ private:
     double shaping_max_average_ = 0;  // the sum treatment's normaliser
     double time_simulation_ = 0;  // seconds of the generation in progress
     double time_kb_ = 0;
+    RemoteEvaluator* remote_ = nullptr;
 };
 
 /// Options of `stepstone evolve`.
@@ -110,6 +134,11 @@ struct EvolveOptions {
     std::optional<std::filesystem::path> kb;      ///< overrides transfer.kb (the shaping KB file)
     std::optional<std::string> kb_name;           ///< overrides transfer.kb_name
     unsigned threads = 0;  ///< 0 = every core
+    /// Set on rank 0 of `evolve --mpi`: the ranks that evaluate each generation.
+    MpiLeader* mpi = nullptr;
+    /// False in a worker rank of `campaign --mpi`: SIGINT and SIGTERM are left
+    /// to the MPI job (rank 0 names a lost rank) instead of stopping the run.
+    bool stop_on_signals = true;
     bool resume = false;
     bool allow_config_change = false;
     bool force = false;
@@ -133,5 +162,11 @@ struct EvolveSummary {
 /// Throws ConfigError on bad options, config or KB, DatabaseError on an
 /// unusable file (left unchanged).
 EvolveSummary run_evolve(const EvolveOptions& options);
+
+/// Loads and checks the shaping KB of `config.transfer` (channels and width
+/// against the task, randomized or not against the treatment, its digest
+/// against transfer.kb_digest when set), then records its digest and name in
+/// the config and makes its path absolute. Throws ConfigError naming the file.
+kb::KnowledgeBase load_shaping_kb(EvolveConfig& config);
 
 }  // namespace stepstone::exp

@@ -1,5 +1,7 @@
 #include <catch2/catch.hpp>
 
+#include <cstdlib>
+
 #include "support/run_cli.hpp"
 
 using namespace stepstone;
@@ -27,6 +29,10 @@ TEST_CASE("bench --help shows an example and --list names the cases of this buil
 TEST_CASE("bench --csv prints the header the docs promise", "[bench][cli]") {
     // an empty selection is impossible from the CLI, so run the cheapest real
     // run: every case of this build, quick
+    // the `mpi` case starts mpirun: CI runs as root on few cores
+    ::setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
+    ::setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
+    ::setenv("OMPI_MCA_rmaps_base_oversubscribe", "1", 1);
     auto result = test::run_cli({"bench", "--quick", "--csv"});
     CHECK(result.exit_code == 0);
     CHECK_THAT(result.out, StartsWith("case,baseline_per_s,candidate_per_s,ratio\n"));

@@ -29,9 +29,10 @@ std::vector<std::string> CliResult::err_lines() const {
 
 namespace {
 
-// the binary and `args` as execv wants them
+// the binary and `args` as execv wants them (or a whole command line)
 struct Argv {
-    explicit Argv(const std::vector<std::string>& args) : storage{STEPSTONE_BINARY} {
+    explicit Argv(const std::vector<std::string>& args) : Argv(STEPSTONE_BINARY, args) {}
+    Argv(const std::string& program, const std::vector<std::string>& args) : storage{program} {
         storage.insert(storage.end(), args.begin(), args.end());
         for (auto& arg : storage) pointers.push_back(arg.data());
         pointers.push_back(nullptr);
@@ -40,11 +41,12 @@ struct Argv {
     std::vector<char*> pointers;
 };
 
-// Starts the binary with `args`, stdin from /dev/null, stdout and stderr to
-// the given files (/dev/null when empty), in `cwd` unless empty; returns its pid.
-pid_t spawn(const std::vector<std::string>& args, const std::filesystem::path& out_path,
+// Starts `command` (command[0] a path or a program in PATH), stdin from
+// /dev/null, stdout and stderr to the given files (/dev/null when empty), in
+// `cwd` unless empty; returns its pid.
+pid_t spawn(const std::vector<std::string>& command, const std::filesystem::path& out_path,
             const std::filesystem::path& err_path, const std::filesystem::path& cwd = {}) {
-    Argv argv(args);
+    Argv argv(command.front(), std::vector<std::string>(command.begin() + 1, command.end()));
     const pid_t pid = ::fork();
     if (pid < 0) throw std::runtime_error("fork failed");
     if (pid == 0) {
@@ -55,7 +57,7 @@ pid_t spawn(const std::vector<std::string>& args, const std::filesystem::path& o
         ::dup2(open_output(out_path), STDOUT_FILENO);
         ::dup2(open_output(err_path), STDERR_FILENO);
         if (!cwd.empty() && ::chdir(cwd.c_str()) != 0) ::_exit(127);
-        ::execv(argv.pointers[0], argv.pointers.data());
+        ::execvp(argv.pointers[0], argv.pointers.data());
         ::_exit(127);
     }
     return pid;
@@ -85,14 +87,18 @@ CliResult reap(pid_t pid, const std::filesystem::path& out_path, const std::file
 }  // namespace
 
 CliResult run_cli(const std::vector<std::string>& args, const std::filesystem::path& cwd) {
+    return run_program(Argv(args).storage, cwd);
+}
+
+CliResult run_program(const std::vector<std::string>& command, const std::filesystem::path& cwd) {
     TempDir capture;
-    const pid_t pid = spawn(args, capture / "out", capture / "err", cwd);
+    const pid_t pid = spawn(command, capture / "out", capture / "err", cwd);
     return reap(pid, capture / "out", capture / "err");
 }
 
 bool run_cli_killed_when(const std::vector<std::string>& args, const std::function<bool()>& ready,
                          std::chrono::seconds timeout) {
-    const pid_t pid = spawn(args, {}, {});
+    const pid_t pid = spawn(Argv(args).storage, {}, {});
     const bool held = wait_until(ready, timeout);
     ::kill(pid, SIGKILL);
     reap(pid, {}, {});
@@ -100,19 +106,36 @@ bool run_cli_killed_when(const std::vector<std::string>& args, const std::functi
 }
 
 CliResult run_cli_signalled_when(const std::vector<std::string>& args, const std::function<bool()>& ready,
-                                 const std::function<void()>& while_running, int signal, double* seconds_to_exit,
-                                 std::chrono::seconds timeout) {
+                                 const std::function<void()>& while_running, int signal,
+                                 double* seconds_to_exit, std::chrono::seconds timeout) {
+    return run_program_signalled_when(Argv(args).storage, ready, while_running, signal, seconds_to_exit,
+                                      timeout);
+}
+
+CliResult run_program_signalled_when(const std::vector<std::string>& command,
+                                     const std::function<bool()>& ready,
+                                     const std::function<void()>& while_running, int signal,
+                                     double* seconds_to_exit, std::chrono::seconds timeout) {
     TempDir capture;
-    const pid_t pid = spawn(args, capture / "out", capture / "err");
+    const pid_t pid = spawn(command, capture / "out", capture / "err");
     wait_until(ready, timeout);
     if (while_running) while_running();
     const auto signalled = std::chrono::steady_clock::now();
     if (signal != 0) ::kill(pid, signal);
     auto result = reap(pid, capture / "out", capture / "err");
     if (seconds_to_exit) {
-        *seconds_to_exit = std::chrono::duration<double>(std::chrono::steady_clock::now() - signalled).count();
+        *seconds_to_exit =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - signalled).count();
     }
     return result;
+}
+
+std::vector<std::string> mpirun_command(int ranks, const std::vector<std::string>& args) {
+    // CI runs as root, and has fewer cores than some tests have ranks
+    std::vector<std::string> command{"mpirun", "--allow-run-as-root", "--oversubscribe",
+                                     "-np",    std::to_string(ranks), STEPSTONE_BINARY};
+    command.insert(command.end(), args.begin(), args.end());
+    return command;
 }
 
 }  // namespace stepstone::test

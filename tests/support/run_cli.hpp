@@ -37,4 +37,18 @@ CliResult run_cli_signalled_when(const std::vector<std::string>& args, const std
                                  double* seconds_to_exit = nullptr,
                                  std::chrono::seconds timeout = std::chrono::seconds(120));
 
+/// run_cli for any command line: `command[0]` is a path or a program
+/// searched in PATH (e.g. mpirun_command's).
+CliResult run_program(const std::vector<std::string>& command, const std::filesystem::path& cwd = {});
+
+/// run_cli_signalled_when for any command line.
+CliResult run_program_signalled_when(const std::vector<std::string>& command, const std::function<bool()>& ready,
+                                     const std::function<void()>& while_running, int signal,
+                                     double* seconds_to_exit = nullptr,
+                                     std::chrono::seconds timeout = std::chrono::seconds(120));
+
+/// `mpirun -np ranks` of the stepstone binary with `args`, oversubscribed
+/// and allowed to run as root (CI).
+std::vector<std::string> mpirun_command(int ranks, const std::vector<std::string>& args);
+
 }  // namespace stepstone::test
