@@ -102,7 +102,7 @@ GenerationWrite Evolution::epoch() {
     ++generation_;
     const auto g = static_cast<std::uint64_t>(generation_);
 
-    // mating selection on the current parents (ORIGINAL.md 7.2)
+    // mating selection on the current parents (docs/original.md: NSGA-II)
     evo::Objectives objectives;
     std::vector<double> crowding;
     for (const auto& m : population_) {
@@ -192,7 +192,7 @@ std::vector<Evaluation> Evolution::evaluate(const std::vector<nn::Genome>& genom
 }
 
 GenerationWrite Evolution::select(std::vector<Member> mixed, std::size_t first_new, double started) {
-    // diversity of every member of the mixed population (ORIGINAL.md 5.4),
+    // diversity of every member of the mixed population (docs/original.md: diversity),
     // reusing the distances between members already seen
     std::vector<std::uint64_t> ids;
     std::vector<evo::Trajectory> trajectories;

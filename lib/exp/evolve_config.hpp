@@ -17,7 +17,7 @@ namespace stepstone::exp {
 /// The largest seed a config accepts (seeds are stored as SQLite integers).
 inline constexpr std::int64_t kMaxSeed = std::numeric_limits<std::int64_t>::max();
 
-/// NSGA-II settings (ORIGINAL.md 7). Defaults are the paper's.
+/// NSGA-II settings (docs/original.md: NSGA-II). Defaults are the paper's.
 struct EaConfig {
     /// mu = lambda; a positive multiple of 4 (the tournament works in blocks of 4).
     int population_size = 200;
