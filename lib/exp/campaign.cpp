@@ -4,6 +4,7 @@
 #include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
+#include <zlib.h>
 
 #include <algorithm>
 #include <chrono>
@@ -11,23 +12,21 @@
 #include <cstdio>
 #include <deque>
 #include <fstream>
-
-#include <zlib.h>
 #include <map>
 #include <set>
 #include <thread>
 
 #include "core/config.hpp"
 #include "core/error.hpp"
-#include "core/writer_lock.hpp"
 #include "core/output_file.hpp"
 #include "core/rng.hpp"
 #include "core/text.hpp"
+#include "core/writer_lock.hpp"
 #include "db/database.hpp"
 #include "db/digest.hpp"
 #include "db/kb_store.hpp"
 #include "exp/evaluation.hpp"
-#include "exp/kb_tools.hpp"
+#include "exp/kb_files.hpp"
 #include "exp/run_store.hpp"
 #include "nn/genome.hpp"
 
@@ -124,7 +123,7 @@ std::optional<RunFileState> read_run_file(const fs::path& path) {
     RunFileState state;
     state.generations_done = run.generations_done;
     state.finished = run.status == "finished";
-    auto best = connection.prepare("SELECT max(best_reward) FROM generation");
+    auto best = connection.prepare(db::sql("run/max_best_reward.sql"));
     if (best.step() && best.column_type(0) != db::Statement::Type::null) state.best_reward = best.column_double(0);
     return state;
 }
@@ -132,13 +131,13 @@ std::optional<RunFileState> read_run_file(const fs::path& path) {
 void update_run_row(db::Connection& connection, const RunState& state, const std::optional<std::string>& digest,
                     double wall_time, const std::optional<std::string>& error) {
     auto update = connection.prepare(db::sql("campaign/update_run.sql"));
-    update.bind(1, state.status)
-        .bind(2, state.generations_done)
-        .bind(3, state.best_reward)
-        .bind(4, digest)
-        .bind(5, wall_time)
-        .bind(6, error)
-        .bind(7, state.id);
+    update.bind(":status", state.status)
+        .bind(":generations_done", state.generations_done)
+        .bind(":best_reward", state.best_reward)
+        .bind(":digest", digest)
+        .bind(":wall_time", wall_time)
+        .bind(":error", error)
+        .bind(":id", state.id);
     update.step();
 }
 
@@ -354,11 +353,11 @@ void record_kb(db::Connection& connection, const std::string& name, const std::s
     auto kb_connection = db::open_database(path, db::OpenMode::read_only);
     const auto stored = db::load_kb(kb_connection);
     auto upsert = connection.prepare(db::sql("campaign/upsert_kb.sql"));
-    upsert.bind(1, name)
-        .bind(2, file)
-        .bind(3, made_from)
-        .bind(4, static_cast<std::int64_t>(stored.kb.size()))
-        .bind(5, db::kb_digest(stored.kb, stored.randomized_seed));
+    upsert.bind(":name", name)
+        .bind(":file", file)
+        .bind(":made_from", made_from)
+        .bind(":segments", static_cast<std::int64_t>(stored.kb.size()))
+        .bind(":digest", db::kb_digest(stored.kb, stored.randomized_seed));
     upsert.step();
 }
 
@@ -656,7 +655,7 @@ CampaignIndex load_campaign(const fs::path& dir) {
     }
     auto connection = db::open_database(path, db::OpenMode::read_only);
     CampaignIndex index;
-    auto config = connection.prepare("SELECT config FROM campaign WHERE id = 1");
+    auto config = connection.prepare(db::sql("campaign/select_config.sql"));
     if (!config.step()) throw DataError(concat(path.string(), ": holds no campaign"));
     try {
         index.config = nlohmann::json::parse(config.column_text(0));
@@ -666,13 +665,13 @@ CampaignIndex load_campaign(const fs::path& dir) {
     auto runs = connection.prepare(db::sql("campaign/select_runs.sql"));
     while (runs.step()) {
         PlannedRun run;
-        run.step = runs.column_text(1);
-        run.treatment = parse_treatment(runs.column_text(2), "campaign_run.treatment");
-        run.seed = static_cast<std::uint64_t>(runs.column_int(3));
-        run.file = runs.column_text(4);
-        run.generations = static_cast<int>(runs.column_int(5));
+        run.step = runs.column_text(runs.column("step"));
+        run.treatment = parse_treatment(runs.column_text(runs.column("treatment")), "campaign_run.treatment");
+        run.seed = static_cast<std::uint64_t>(runs.column_int(runs.column("seed")));
+        run.file = runs.column_text(runs.column("file"));
+        run.generations = static_cast<int>(runs.column_int(runs.column("generations")));
         index.runs.push_back(run);
-        index.statuses.push_back(runs.column_text(6));
+        index.statuses.push_back(runs.column_text(runs.column("status")));
     }
     return index;
 }
@@ -712,17 +711,19 @@ CampaignSummary run_campaign(const CampaignOptions& given) {
         fs::create_directories(options.dir);
         db::OutputDatabase output(campaign_path, false);
         auto& connection = output.connection();
-        connection.prepare(db::sql("campaign/insert_campaign.sql")).bind(1, config.to_json().dump()).step();
+        connection.prepare(db::sql("campaign/insert_campaign.sql"))
+            .bind(":config", config.to_json().dump())
+            .step();
         {
             auto insert = connection.prepare(db::sql("campaign/insert_run.sql"));
             for (std::size_t k = 0; k < plan.size(); ++k) {
                 insert.reset();
-                insert.bind(1, static_cast<std::int64_t>(k + 1))
-                    .bind(2, plan[k].step)
-                    .bind(3, to_string(plan[k].treatment))
-                    .bind(4, static_cast<std::int64_t>(plan[k].seed))
-                    .bind(5, plan[k].file)
-                    .bind(6, plan[k].generations)
+                insert.bind(":id", static_cast<std::int64_t>(k + 1))
+                    .bind(":step", plan[k].step)
+                    .bind(":treatment", to_string(plan[k].treatment))
+                    .bind(":seed", static_cast<std::int64_t>(plan[k].seed))
+                    .bind(":file", plan[k].file)
+                    .bind(":generations", plan[k].generations)
                     .step();
             }
         }  // the statement is finalized before the file is moved into place
@@ -733,7 +734,7 @@ CampaignSummary run_campaign(const CampaignOptions& given) {
     if (options.resume) {
         // a campaign killed in the middle of a write leaves a hot journal that only a writer can
         // roll back: open it for writing once before the read-only loads
-        db::open_database(campaign_path, db::OpenMode::read_write).query_int("SELECT COUNT(*) FROM campaign");
+        db::open_database(campaign_path, db::OpenMode::read_write).query_int(db::sql("campaign/count.sql"));
     }
     const auto index = load_campaign(options.dir);
     if (options.resume) {

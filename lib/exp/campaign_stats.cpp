@@ -31,8 +31,8 @@ RunCurve read_curve(const fs::path& dir, const PlannedRun& run) {
     curve.treatment = run.treatment;
     curve.seed = run.seed;
     curve.file = run.file;
-    auto rows = connection.prepare("SELECT generation, best_reward FROM generation WHERE run_id = ?1 ORDER BY generation");
-    rows.bind(1, record.id);
+    auto rows = connection.prepare(db::sql("run/select_best_rewards.sql"));
+    rows.bind(":run_id", record.id);
     double best = 0;
     while (rows.step()) {
         const auto g = rows.column_int(0);

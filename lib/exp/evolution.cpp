@@ -17,6 +17,7 @@
 #include "evo/selection.hpp"
 #include "kb/segments.hpp"
 #include "nn/mutation.hpp"
+#include "stats/summary.hpp"
 
 #ifndef STEPSTONE_VERSION
 #define STEPSTONE_VERSION "unknown"
@@ -25,13 +26,6 @@
 namespace stepstone::exp {
 
 namespace {
-
-double median(std::vector<double> values) {
-    if (values.empty()) return 0.0;
-    std::sort(values.begin(), values.end());
-    const std::size_t n = values.size();
-    return n % 2 == 1 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
-}
 
 nlohmann::json cells_to_json(const evo::Trajectory& cells) {
     auto out = nlohmann::json::array();
@@ -271,7 +265,7 @@ GenerationWrite Evolution::select(std::vector<Member> mixed, std::size_t first_n
     for (const auto& m : population_) rewards.push_back(m.reward);
     stats.best_reward = *std::max_element(rewards.begin(), rewards.end());
     stats.mean_reward = std::accumulate(rewards.begin(), rewards.end(), 0.0) / static_cast<double>(rewards.size());
-    stats.median_reward = median(rewards);
+    stats.median_reward = stats::median(rewards);
     stats.wall_time = now_seconds() - started;
     stats.time_simulation = time_simulation_;
     stats.time_kb = time_kb_;
@@ -454,7 +448,8 @@ EvolveSummary run_evolve(const EvolveOptions& options) {
             run.config = config.to_json();
             run.generations = config.ea.generations;
             insert_run(output.connection(), run, STEPSTONE_VERSION);
-            if (config.kb) db::insert_kb(output.connection(), "run", kb::KnowledgeBase(kb_params(*config.kb)));
+            if (config.kb)
+                db::insert_kb(output.connection(), kRunKbName, kb::KnowledgeBase(kb_params(*config.kb)));
             output.commit();
         }
         return db::open_database(options.db_path, db::OpenMode::read_write);
@@ -478,7 +473,7 @@ EvolveSummary run_evolve(const EvolveOptions& options) {
     if (auto state = load_checkpoint(connection, run.id)) evolution.restore(*state);
     if (config.kb) {
         // the KB was written in the same transactions as the checkpoint, so the two agree
-        auto stored = db::load_kb(connection, "run");
+        auto stored = db::load_kb(connection, kRunKbName);
         evolution.attach_kb(std::move(stored.kb), stored.id, concat("seed-", seed));
     }
     if (shaping) evolution.attach_shaping(std::move(*shaping), config.treatment());

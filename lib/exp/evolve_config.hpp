@@ -3,12 +3,12 @@
 #include <cstdint>
 #include <filesystem>
 #include <limits>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 
-#include <nlohmann/json.hpp>
-
 #include "exp/treatment.hpp"
+#include "kb/knowledge_base.hpp"
 #include "nn/dnn_config.hpp"
 #include "sim/task.hpp"
 
@@ -32,7 +32,7 @@ struct EaConfig {
 /// The knowledge base a run builds from its own policies (the paper's
 /// section II.B). Defaults are the paper's.
 struct KbConfig {
-    int segment_width = 20;        ///< time steps per segment
+    int segment_width = static_cast<int>(kb::kDefaultSegmentWidth);  ///< time steps per segment
     double delta = 1.83;           ///< a segment closer than delta to a KB segment credits it
     int period = 200;              ///< observe every `period` generations (1 = every generation)
     std::string match = "within_delta";  ///< lookup rule: within_delta | nearest

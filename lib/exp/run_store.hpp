@@ -12,6 +12,9 @@
 
 namespace stepstone::exp {
 
+/// The name evolve gives the knowledge base it stores in a run file.
+inline constexpr const char* kRunKbName = "run";
+
 /// The `run` row of a run file.
 struct RunRecord {
     std::int64_t id = 0;
@@ -104,6 +107,8 @@ struct StoredGenome {
 
 /// The genome of `individual_id`; throws DataError if it was not stored.
 StoredGenome load_genome(db::Connection& connection, std::int64_t run_id, std::int64_t individual_id);
+/// The ids of the run's stored genomes, in increasing order.
+std::vector<std::int64_t> stored_individuals(db::Connection& connection, std::int64_t run_id);
 /// The stored genome with the highest task reward (lowest id on ties).
 StoredGenome load_best_genome(db::Connection& connection, std::int64_t run_id);
 

@@ -11,7 +11,7 @@
 #include "db/database.hpp"
 #include "db/digest.hpp"
 #include "exp/evolve_config.hpp"
-#include "exp/kb_tools.hpp"
+#include "exp/kb_stats.hpp"
 #include "exp/run_store.hpp"
 #include "report/arena_figure.hpp"
 #include "report/chart.hpp"

@@ -39,20 +39,25 @@ struct KbRow {
 
 std::vector<RunRow> load_runs(db::Connection& connection) {
     auto rows = connection.prepare(db::sql("report/select_campaign_runs.sql"));
+    const int step = rows.column("step"), treatment = rows.column("treatment"), seed = rows.column("seed"),
+              file = rows.column("file"), generations = rows.column("generations"),
+              status = rows.column("status"), done = rows.column("generations_done"),
+              best = rows.column("best_reward"), digest = rows.column("digest"),
+              wall_time = rows.column("wall_time"), error = rows.column("error");
     std::vector<RunRow> out;
     while (rows.step()) {
         RunRow r;
-        r.step = rows.column_text(1);
-        r.treatment = rows.column_text(2);
-        r.seed = static_cast<std::uint64_t>(rows.column_int(3));
-        r.file = rows.column_text(4);
-        r.generations = static_cast<int>(rows.column_int(5));
-        r.status = rows.column_text(6);
-        r.generations_done = static_cast<int>(rows.column_int(7));
-        if (!rows.is_null(8)) r.best_reward = rows.column_double(8);
-        if (!rows.is_null(9)) r.digest = rows.column_text(9);
-        r.wall_time = rows.column_double(10);
-        if (!rows.is_null(11)) r.error = rows.column_text(11);
+        r.step = rows.column_text(step);
+        r.treatment = rows.column_text(treatment);
+        r.seed = static_cast<std::uint64_t>(rows.column_int(seed));
+        r.file = rows.column_text(file);
+        r.generations = static_cast<int>(rows.column_int(generations));
+        r.status = rows.column_text(status);
+        r.generations_done = static_cast<int>(rows.column_int(done));
+        if (!rows.is_null(best)) r.best_reward = rows.column_double(best);
+        if (!rows.is_null(digest)) r.digest = rows.column_text(digest);
+        r.wall_time = rows.column_double(wall_time);
+        if (!rows.is_null(error)) r.error = rows.column_text(error);
         out.push_back(std::move(r));
     }
     return out;
@@ -61,9 +66,11 @@ std::vector<RunRow> load_runs(db::Connection& connection) {
 std::vector<KbRow> load_kbs(db::Connection& connection) {
     auto rows = connection.prepare(db::sql("report/select_campaign_kbs.sql"));
     std::vector<KbRow> out;
+    const int name = rows.column("name"), file = rows.column("file"), made_from = rows.column("made_from"),
+              digest = rows.column("digest"), segments = rows.column("segments");
     while (rows.step()) {
-        out.push_back({rows.column_text(0), rows.column_text(1), rows.column_text(2), rows.column_text(4),
-                       rows.column_int(3)});
+        out.push_back({rows.column_text(name), rows.column_text(file), rows.column_text(made_from),
+                       rows.column_text(digest), rows.column_int(segments)});
     }
     return out;
 }

@@ -4,9 +4,6 @@
 // light readings 99.97%); the bounds below leave a margin.
 
 #include <catch2/catch.hpp>
-
-#if STEPSTONE_HAVE_SIM
-
 #include <cmath>
 #include <vector>
 
@@ -72,5 +69,3 @@ TEST_CASE("the bitmap baseline agrees with lib/sim on collisions, lights and las
     CHECK(light_disagreements <= 6 * free_poses / 1000);  // >= 99.9% agree
     CHECK(laser_close >= laser_readings * 97 / 100);       // >= 97% within 3.5 units
 }
-
-#endif
