@@ -21,6 +21,7 @@ struct StatsFlags {
     std::string runs_csv;
     std::string tests_csv;
     bool force = false;
+    bool available = false;
 };
 
 template <typename Writer>
@@ -42,7 +43,10 @@ void add_stats_command(CLI::App& app) {
     cmd->add_option("--tests-csv", flags->tests_csv,
                     "Write one row per pair: treatment_a,treatment_b,n_a,n_b,u,p,p_holm,a12");
     cmd->add_flag("--force", flags->force, "Replace existing CSV files");
+    cmd->add_flag("--available", flags->available,
+                  "A campaign still running: compare the runs that have reached the generation, list the others");
     cmd->footer(example({"stepstone stats camp", "stepstone stats camp --generation 10 --threshold 0.25",
+                         "stepstone stats camp --available --generation 300",
                          "stepstone stats camp --runs-csv runs.csv --tests-csv tests.csv"}));
     cmd->callback([flags] {
         if (!(flags->threshold >= 0.0 && flags->threshold <= 1.0)) {
@@ -54,7 +58,7 @@ void add_stats_command(CLI::App& app) {
         }
         std::optional<int> generation;
         if (flags->generation != -1) generation = flags->generation;
-        const auto stats = exp::campaign_stats(flags->dir, generation, flags->threshold);
+        const auto stats = exp::campaign_stats(flags->dir, generation, flags->threshold, flags->available);
         exp::write_text(std::cout, stats);
         write_csv(flags->csv, flags->force, [&](std::ostream& out) { exp::write_success_csv(out, stats); });
         write_csv(flags->runs_csv, flags->force, [&](std::ostream& out) { exp::write_runs_csv(out, stats); });

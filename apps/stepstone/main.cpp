@@ -5,12 +5,14 @@
 #include <exception>
 #include <filesystem>
 #include <iostream>
+#include <string>
 #include <utility>
 #include <vector>
 
 #include "commands.hpp"
 #include "core/error.hpp"
 #include "core/text.hpp"
+#include "core/version.hpp"
 
 namespace stepstone::app {
 
@@ -105,7 +107,8 @@ std::string unknown_command(const CLI::App& app, int argc, char** argv) {
 
 int main(int argc, char** argv) {
     CLI::App app{"stepstone: transfer learning for evolutionary robotics by reward shaping"};
-    app.set_version_flag("--version", "stepstone " STEPSTONE_VERSION);
+    app.set_version_flag("--version", "stepstone " + std::string(stepstone::program_version()) + " (commit " +
+                                          std::string(stepstone::build_commit()) + ")");
     app.require_subcommand(1);
     app.footer(stepstone::app::example({"stepstone db info run.db", "stepstone demo"}));
     stepstone::app::add_registered_commands(app);

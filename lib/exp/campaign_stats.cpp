@@ -60,7 +60,8 @@ std::string short_number(double value) {
 
 }  // namespace
 
-CampaignStats campaign_stats(const fs::path& dir, std::optional<int> generation, double threshold) {
+CampaignStats campaign_stats(const fs::path& dir, std::optional<int> generation, double threshold,
+                             bool available_only) {
     if (!(threshold >= 0.0 && threshold <= 1.0)) {
         throw ConfigError(concat("--threshold must be within [0, 1], got ", threshold));
     }
@@ -73,8 +74,17 @@ CampaignStats campaign_stats(const fs::path& dir, std::optional<int> generation,
     for (const auto& run : index.runs) {
         if (run.step != "target") continue;
         if (!generation) generation = run.generations;
+        if (available_only && !fs::exists(dir / run.file)) {
+            stats.skipped.push_back(run.file);
+            continue;
+        }
         stats.runs.push_back(read_curve(dir, run));
         const auto& curve = stats.runs.back();
+        if (static_cast<int>(curve.best.size()) <= *generation && available_only) {
+            stats.skipped.push_back(run.file);
+            stats.runs.pop_back();
+            continue;
+        }
         if (static_cast<int>(curve.best.size()) <= *generation) {
             const int reached = static_cast<int>(curve.best.size()) - 1;
             throw DataError(concat((dir / run.file).string(), ": has reached generation ", reached, " of ",
@@ -87,6 +97,9 @@ CampaignStats campaign_stats(const fs::path& dir, std::optional<int> generation,
             stats.treatments.push_back({run.treatment, {}, {}, 0});
             it = stats.treatments.end() - 1;
         }
+    }
+    if (stats.runs.empty() && !stats.skipped.empty()) {
+        throw DataError(concat(dir.string(), ": no target run has reached generation ", *generation, " yet"));
     }
     if (stats.runs.empty()) throw DataError(concat(dir.string(), ": the campaign has no target runs"));
     stats.generation = *generation;
@@ -133,7 +146,14 @@ CampaignStats campaign_stats(const fs::path& dir, std::optional<int> generation,
 void write_text(std::ostream& out, const CampaignStats& stats) {
     char line[256];
     out << "campaign " << stats.dir << ": " << stats.runs.size() << " target runs at generation " << stats.generation
-        << "; success = best-of-run reward >= " << stats.threshold << "\n\n";
+        << "; success = best-of-run reward >= " << stats.threshold << "\n";
+    if (!stats.skipped.empty()) {
+        out << stats.skipped.size() << " target runs not yet at generation " << stats.generation
+            << " left out (--available):";
+        for (const auto& file : stats.skipped) out << " " << file;
+        out << "\n";
+    }
+    out << "\n";
     std::snprintf(line, sizeof line, "%-10s %5s %8s %8s %8s %8s %8s\n", "treatment", "runs", "success", "q1",
                   "median", "q3", "max");
     out << line;

@@ -51,6 +51,9 @@ struct CampaignStats {
     /// successes[g][t]: runs of treatment t that succeeded by generation g (0..generation).
     std::vector<std::vector<std::size_t>> successes;
     std::vector<PairTest> tests;                ///< every pair (a before b in campaign order)
+    /// Target runs left out because they are missing or have not reached
+    /// `generation` (only with `available_only`), relative to the campaign directory.
+    std::vector<std::string> skipped;
 };
 
 /// Reads every target run of the campaign in `dir` (read-only) and computes
@@ -59,8 +62,11 @@ struct CampaignStats {
 /// ConfigError for a threshold outside [0, 1] or a negative generation;
 /// DataError naming the file when a run file is missing, is not a run of this
 /// campaign (seed or treatment differ), or has not reached `generation`;
-/// DatabaseError for an unreadable file.
-CampaignStats campaign_stats(const std::filesystem::path& dir, std::optional<int> generation, double threshold);
+/// DatabaseError for an unreadable file. With `available_only` (a campaign
+/// still running), runs that are missing or short of `generation` are left
+/// out and listed in `skipped` instead; DataError if no run is left.
+CampaignStats campaign_stats(const std::filesystem::path& dir, std::optional<int> generation, double threshold,
+                             bool available_only = false);
 
 /// The text report: per-treatment summary, success counts along generations,
 /// and the pairwise tests.

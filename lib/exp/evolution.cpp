@@ -9,6 +9,7 @@
 #include "core/error.hpp"
 #include "core/rng.hpp"
 #include "core/text.hpp"
+#include "core/version.hpp"
 #include "core/writer_lock.hpp"
 #include "db/database.hpp"
 #include "db/digest.hpp"
@@ -18,10 +19,6 @@
 #include "kb/segments.hpp"
 #include "nn/mutation.hpp"
 #include "stats/summary.hpp"
-
-#ifndef STEPSTONE_VERSION
-#define STEPSTONE_VERSION "unknown"
-#endif
 
 namespace stepstone::exp {
 
@@ -447,7 +444,7 @@ EvolveSummary run_evolve(const EvolveOptions& options) {
             run.seed = static_cast<std::int64_t>(*config.seed);
             run.config = config.to_json();
             run.generations = config.ea.generations;
-            insert_run(output.connection(), run, STEPSTONE_VERSION);
+            insert_run(output.connection(), run, full_version());
             if (config.kb)
                 db::insert_kb(output.connection(), kRunKbName, kb::KnowledgeBase(kb_params(*config.kb)));
             output.commit();

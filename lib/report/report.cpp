@@ -8,6 +8,7 @@
 #include "core/error.hpp"
 #include "core/output_file.hpp"
 #include "core/text.hpp"
+#include "core/version.hpp"
 #include "db/database.hpp"
 #include "db/digest.hpp"
 #include "exp/evolve_config.hpp"
@@ -172,7 +173,7 @@ void run_report(const ReportOptions& options, const fs::path& dir, ReportSummary
                 {"seed", std::to_string(run.seed)},
                 {"evaluations", std::to_string(run.evaluations)},
                 {"run digest (stepstone db digest)", db::run_digest(connection)},
-                {"report written by", "stepstone " STEPSTONE_VERSION}});
+                {"report written by", "stepstone " + full_version()}});
     page.heading("Config", 3);
     page.preformatted(run.config.dump(2));
     progress.finish();

@@ -9,6 +9,7 @@
 #include "core/error.hpp"
 #include "core/output_file.hpp"
 #include "core/text.hpp"
+#include "core/version.hpp"
 #include "db/database.hpp"
 #include "exp/campaign.hpp"
 #include "exp/campaign_stats.hpp"
@@ -261,7 +262,7 @@ void campaign_report(const ReportOptions& options, const fs::path& dir, ReportSu
         page.table({"KB", "file", "made from", "segments", "content digest"}, kb_rows, "Knowledge bases");
     }
     page.heading("Provenance");
-    page.paragraph(concat("Report written by stepstone " STEPSTONE_VERSION ". Every run file's digest "
+    page.paragraph(concat("Report written by stepstone ", full_version(), ". Every run file's digest "
                           "(<code>stepstone db digest</code>) is in the runs table; the same seeds and configs give "
                           "the same digests on any machine and thread count."));
     page.heading("Campaign config", 3);

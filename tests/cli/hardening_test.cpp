@@ -52,11 +52,6 @@ int generations_done(const fs::path& path) {
     }
 }
 
-std::string digest(const fs::path& path) {
-    auto connection = db::open_database(path, db::OpenMode::read_only);
-    return db::run_digest(connection);
-}
-
 // exit `code`, exactly one stderr line "stepstone: error: ..." holding `needle`, nothing on stdout
 void check_refused(const test::CliResult& result, int code, const std::string& needle) {
     INFO(result.err);
@@ -121,7 +116,7 @@ TEST_CASE("a second writer on a run file is refused at once, naming the first; C
     auto full = test::run_cli({"evolve", "--config", (dir / "c.json").string(), "--db", (dir / "full.db").string(),
                                "--threads", "2", "--quiet"});
     REQUIRE(full.exit_code == 0);
-    CHECK(digest(run) == digest(dir / "full.db"));
+    CHECK(test::file_digest(run) == test::file_digest(dir / "full.db"));
 }
 
 TEST_CASE("SIGTERM stops evolve like Ctrl-C", "[cli][harden][interrupt]") {

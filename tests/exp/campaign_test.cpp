@@ -1,6 +1,7 @@
 // stepstone campaign and stepstone stats, end to end on tiny campaigns.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <map>
 #include <thread>
@@ -9,6 +10,7 @@
 #include "db/digest.hpp"
 #include "db/kb_store.hpp"
 #include "exp/campaign.hpp"
+#include "support/db_files.hpp"
 #include "support/run_cli.hpp"
 #include "support/temp_dir.hpp"
 
@@ -65,17 +67,25 @@ std::int64_t finished_runs(const std::filesystem::path& dir) {
     }
 }
 
-std::string digest_of(const std::filesystem::path& run) {
-    auto connection = db::open_database(run, db::OpenMode::read_only);
-    return db::run_digest(connection);
-}
-
 // every generation of a run file gets best_reward = value (its best-of-run at any generation)
 void set_best(const std::filesystem::path& run, double value) {
     auto connection = db::open_database(run, db::OpenMode::read_write);
     auto update = connection.prepare("UPDATE generation SET best_reward = ?1");
     update.bind(1, value);
     update.step();
+}
+
+// best-of-run rewards chosen by hand for seeds 1 and 2 of each treatment
+void set_hand_bests(const std::filesystem::path& camp) {
+    const std::map<std::string, std::pair<double, double>> best = {{"none", {0.125, 0.25}},
+                                                                    {"sum", {0.625, 0.75}},
+                                                                    {"mo", {0.375, 0.875}},
+                                                                    {"sum-rand", {0.0, 0.0}},
+                                                                    {"mo-rand", {0.0, 0.5}}};
+    for (const auto& [treatment, values] : best) {
+        set_best(camp / "target" / treatment / "seed-1.db", values.first);
+        set_best(camp / "target" / treatment / "seed-2.db", values.second);
+    }
 }
 
 }  // namespace
@@ -101,7 +111,7 @@ TEST_CASE("campaign runs every step; each run equals the same evolve run alone",
                                       (dir / "alone.db").string(), "--seed", "2", "--generations", "2", "--kb",
                                       (camp / "kb" / "kb.db").string(), "--treatment", "sum", "--quiet"});
     REQUIRE(alone.exit_code == 0);
-    CHECK(digest_of(dir / "alone.db") == digest_of(camp / "target" / "sum" / "seed-2.db"));
+    CHECK(test::file_digest(dir / "alone.db") == test::file_digest(camp / "target" / "sum" / "seed-2.db"));
 
     // a second start in the same directory is refused; --resume has nothing left to do
     const auto again = campaign(dir, "camp", {});
@@ -173,16 +183,7 @@ TEST_CASE("stats on a campaign: success counts, quartiles and tests by hand", "[
     test::write_file(dir / "c.json", campaign_json(2));
     REQUIRE(campaign(dir, "camp", {"--jobs", "2"}).exit_code == 0);
     const auto camp = dir / "camp";
-    // best-of-run rewards chosen by hand
-    const std::map<std::string, std::pair<double, double>> best = {{"none", {0.125, 0.25}},
-                                                                    {"sum", {0.625, 0.75}},
-                                                                    {"mo", {0.375, 0.875}},
-                                                                    {"sum-rand", {0.0, 0.0}},
-                                                                    {"mo-rand", {0.0, 0.5}}};
-    for (const auto& [treatment, values] : best) {
-        set_best(camp / "target" / treatment / "seed-1.db", values.first);
-        set_best(camp / "target" / treatment / "seed-2.db", values.second);
-    }
+    set_hand_bests(camp);
     const auto result = test::run_cli({"stats", camp.string(), "--runs-csv", (dir / "runs.csv").string(),
                                        "--tests-csv", (dir / "tests.csv").string(), "--csv",
                                        (dir / "success.csv").string()});
@@ -209,6 +210,41 @@ TEST_CASE("stats on a campaign: success counts, quartiles and tests by hand", "[
     // z = (3 - 2 - 0.5) / 1 = 0.5, p = erfc(0.5 / sqrt 2) = 0.6170750774519738 (Python's math.erfc)
     CHECK_THAT(tests, Contains("sum-rand,mo-rand,2,2,1,0.61707507745197"));
     CHECK_THAT(result.out, Contains("sum            2        2"));
+}
+
+TEST_CASE("stats --available compares the runs that have reached the generation and lists the others",
+          "[exp][campaign][stats][cli]") {
+    test::TempDir dir;
+    test::write_file(dir / "c.json", campaign_json(2));
+    REQUIRE(campaign(dir, "camp", {"--jobs", "2"}).exit_code == 0);
+    const auto camp = dir / "camp";
+    set_hand_bests(camp);
+    // as a running campaign leaves them: one run not started, one at generation 0 of 2
+    std::filesystem::remove(camp / "target" / "mo" / "seed-2.db");
+    {
+        auto connection = db::open_database(camp / "target" / "sum" / "seed-1.db", db::OpenMode::read_write);
+        connection.exec("DELETE FROM generation WHERE generation > 0");
+    }
+    REQUIRE(test::run_cli({"stats", camp.string()}).exit_code == 1);  // without the flag: refused
+
+    const auto result = test::run_cli({"stats", camp.string(), "--available", "--runs-csv",
+                                       (dir / "runs.csv").string(), "--tests-csv", (dir / "tests.csv").string()});
+    INFO(result.err);
+    REQUIRE(result.exit_code == 0);
+    CHECK_THAT(result.out, Contains("2 target runs not yet at generation 2 left out") &&
+                               Contains("target/sum/seed-1.db") && Contains("target/mo/seed-2.db"));
+    const auto runs = test::read_file(dir / "runs.csv");
+    CHECK(std::count(runs.begin(), runs.end(), '\n') == 1 + 8);
+    CHECK_THAT(runs, Contains("sum,2,2,0.75,1\n") && Contains("mo,1,2,0.375,0\n"));
+    CHECK_THAT(runs, !Contains("sum,1,") && !Contains("mo,2,"));
+    // none {0.125, 0.25} vs sum {0.75}: U = 0, exact p = 2 x 1/C(3,1) = 2/3
+    const auto tests = test::read_file(dir / "tests.csv");
+    CHECK_THAT(tests, Contains("none,sum,2,1,0,0.66666666666666"));
+
+    const auto none_reached = test::run_cli({"stats", camp.string(), "--available", "--generation", "7"});
+    CHECK(none_reached.exit_code == 1);
+    CHECK(none_reached.err_lines().size() == 1);
+    CHECK_THAT(none_reached.err, Contains("no target run has reached generation 7 yet"));
 }
 
 TEST_CASE("stats reports a missing, corrupt or unfinished run file", "[exp][campaign][stats][cli][errors]") {

@@ -5,6 +5,7 @@
 #include "db/digest.hpp"
 #include "exp/evolution.hpp"
 #include "exp/replay.hpp"
+#include "support/db_files.hpp"
 #include "support/temp_dir.hpp"
 
 using namespace stepstone;
@@ -34,11 +35,6 @@ exp::EvolveOptions options_for(const test::TempDir& dir, const std::string& db, 
     return options;
 }
 
-std::string digest(const std::filesystem::path& path) {
-    auto connection = db::open_database(path, db::OpenMode::read_only);
-    return db::run_digest(connection);
-}
-
 }  // namespace
 
 TEST_CASE("a run is identical with 1, 2 and 4 threads", "[exp][determinism]") {
@@ -48,7 +44,7 @@ TEST_CASE("a run is identical with 1, 2 and 4 threads", "[exp][determinism]") {
     for (unsigned threads : {1u, 2u, 4u}) {
         const std::string name = "t" + std::to_string(threads) + ".db";
         exp::run_evolve(options_for(dir, name, threads));
-        digests.push_back(digest(dir / name));
+        digests.push_back(test::file_digest(dir / name));
     }
     CHECK(digests[0] == digests[1]);
     CHECK(digests[0] == digests[2]);
@@ -67,14 +63,14 @@ TEST_CASE("running 3 generations then resuming to 6 equals running 6", "[exp][de
     second.generations = 6;
     const auto summary = exp::run_evolve(second);
     CHECK(summary.generations_done == 6);
-    CHECK(digest(dir / "split.db") == digest(dir / "full.db"));
+    CHECK(test::file_digest(dir / "split.db") == test::file_digest(dir / "full.db"));
 
     // resuming a finished run does nothing and changes nothing
-    const auto before = digest(dir / "full.db");
+    const auto before = test::file_digest(dir / "full.db");
     auto again = options_for(dir, "full.db", 1);
     again.resume = true;
     CHECK(exp::run_evolve(again).was_finished);
-    CHECK(digest(dir / "full.db") == before);
+    CHECK(test::file_digest(dir / "full.db") == before);
 }
 
 TEST_CASE("the run file holds every generation, individual and a replayable best", "[exp][evolve]") {
@@ -198,9 +194,9 @@ TEST_CASE("a run with a knowledge base is identical across threads and stop and 
     second.resume = true;
     second.generations = 6;
     exp::run_evolve(second);
-    const auto a = digest(dir / "a.db");
-    CHECK(digest(dir / "b.db") == a);
-    CHECK(digest(dir / "c.db") == a);
+    const auto a = test::file_digest(dir / "a.db");
+    CHECK(test::file_digest(dir / "b.db") == a);
+    CHECK(test::file_digest(dir / "c.db") == a);
 }
 
 TEST_CASE("bad kb settings are refused with the key named", "[exp][kb][errors]") {

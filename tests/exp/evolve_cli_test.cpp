@@ -6,6 +6,7 @@
 
 #include "db/database.hpp"
 #include "db/digest.hpp"
+#include "support/db_files.hpp"
 #include "support/run_cli.hpp"
 #include "support/temp_dir.hpp"
 
@@ -20,11 +21,6 @@ const char* kConfig = R"({
   "ea": {"population_size": 16, "generations": 30},
   "seed": 5
 })";
-
-std::string digest(const std::filesystem::path& path) {
-    auto connection = db::open_database(path, db::OpenMode::read_only);
-    return db::run_digest(connection);
-}
 
 int generations_done(const std::filesystem::path& path) {
     try {
@@ -57,11 +53,11 @@ TEST_CASE("evolve killed with SIGKILL mid-run resumes to the digest of an uninte
     auto full = test::run_cli({"evolve", "--config", (dir / "c.json").string(), "--db", (dir / "full.db").string(),
                                "--threads", "2", "--quiet"});
     REQUIRE(full.exit_code == 0);
-    CHECK(digest(killed) == digest(dir / "full.db"));
+    CHECK(test::file_digest(killed) == test::file_digest(dir / "full.db"));
 
     auto digest_cli = test::run_cli({"db", "digest", killed.string()});
     CHECK(digest_cli.exit_code == 0);
-    CHECK(digest_cli.out == digest(killed) + "\n");
+    CHECK(digest_cli.out == test::file_digest(killed) + "\n");
 
     auto replay = test::run_cli({"replay", killed.string(), "--individual", "best", "--csv", (dir / "best.csv").string()});
     CHECK(replay.exit_code == 0);

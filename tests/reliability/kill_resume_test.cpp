@@ -19,6 +19,7 @@
 
 #include "db/database.hpp"
 #include "db/digest.hpp"
+#include "support/db_files.hpp"
 #include "support/run_cli.hpp"
 #include "support/temp_dir.hpp"
 
@@ -36,13 +37,6 @@ const char* kTinyConfig = R"({
   "kb": {"segment_width": 10, "delta": 1.0, "period": 1}
 })";
 
-std::string digest(const fs::path& path) {
-    auto connection = db::open_database(path, db::OpenMode::read_only);
-    return db::run_digest(connection);
-}
-
-// integrity_check of a file a killed writer left (opened for writing, as a resume does, so
-// that its WAL is recovered first); "absent" when the kill came before the file existed
 // the run's last committed generation as a reader sees it (-2 while the file
 // does not exist yet or cannot be read)
 int committed_generations(const fs::path& path) {
@@ -53,14 +47,6 @@ int committed_generations(const fs::path& path) {
     } catch (const std::exception&) {
         return -2;
     }
-}
-
-std::string integrity(const fs::path& path) {
-    if (!fs::exists(path)) return "absent";
-    db::Connection connection(path, db::OpenMode::read_write);
-    auto check = connection.prepare("PRAGMA integrity_check");
-    check.step();
-    return check.column_text(0);
 }
 
 }  // namespace
@@ -84,7 +70,7 @@ TEST_CASE("20 evolve runs killed with SIGKILL at seeded random moments resume to
             REQUIRE(test::run_cli({"evolve", "--config", (dir / "c.json").string(), "--db", full.string(),
                                    "--seed", std::to_string(seed), "--threads", "2", "--quiet"})
                         .exit_code == 0);
-            uninterrupted[seed] = digest(full);
+            uninterrupted[seed] = test::file_digest(full);
         }
         const auto run = dir / ("run-" + std::to_string(k) + ".db");
         const int after = after_generation(draw);
@@ -100,7 +86,7 @@ TEST_CASE("20 evolve runs killed with SIGKILL at seeded random moments resume to
                                                             std::chrono::milliseconds(wait);
                                   });
         INFO("run " << k << ", killed " << wait << " ms after generation " << after << " was committed");
-        const std::string check = integrity(run);
+        const std::string check = test::integrity_check(run);
         CHECK((check == "ok" || check == "absent"));
         if (check == "ok") {
             auto connection = db::open_database(run, db::OpenMode::read_only);
@@ -117,8 +103,8 @@ TEST_CASE("20 evolve runs killed with SIGKILL at seeded random moments resume to
         auto resumed = test::run_cli(resume);
         INFO(resumed.err);
         REQUIRE(resumed.exit_code == 0);
-        CHECK(integrity(run) == "ok");
-        CHECK(digest(run) == uninterrupted[seed]);
+        CHECK(test::integrity_check(run) == "ok");
+        CHECK(test::file_digest(run) == uninterrupted[seed]);
     }
     CHECK(mid_run >= 5);
 }
@@ -206,7 +192,7 @@ TEST_CASE("5 campaigns killed with SIGKILL at seeded random moments resume to th
         // the runs die with the campaign (SIGKILL to the children): give them a moment
         std::this_thread::sleep_for(std::chrono::milliseconds(100));
         for (const auto& file : files) {
-            const std::string check = integrity(camp / file);
+            const std::string check = test::integrity_check(camp / file);
             INFO(file);
             CHECK((check == "ok" || check == "absent"));
         }
@@ -218,7 +204,7 @@ TEST_CASE("5 campaigns killed with SIGKILL at seeded random moments resume to th
         REQUIRE(resumed.exit_code == 0);
         for (const auto& file : files) {
             INFO(file);
-            CHECK(digest(camp / file) == digest(dir / "full" / file));
+            CHECK(test::file_digest(camp / file) == test::file_digest(dir / "full" / file));
         }
     }
 

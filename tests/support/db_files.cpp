@@ -6,6 +6,7 @@
 #include <string>
 
 #include "db/database.hpp"
+#include "db/digest.hpp"
 #include "db/inspect.hpp"
 #include "support/temp_dir.hpp"
 
@@ -51,6 +52,19 @@ void make_truncated_stepstone(const std::filesystem::path& path) {
     make_stepstone_db(path);
     const std::string bytes = read_file(path);
     write_file(path, bytes.substr(0, bytes.size() / 2));
+}
+
+std::string file_digest(const std::filesystem::path& path) {
+    auto connection = db::open_database(path, db::OpenMode::read_only);
+    return db::run_digest(connection);
+}
+
+std::string integrity_check(const std::filesystem::path& path) {
+    if (!std::filesystem::exists(path)) return "absent";
+    db::Connection connection(path, db::OpenMode::read_write);
+    auto check = connection.prepare("PRAGMA integrity_check");
+    check.step();
+    return check.column_text(0);
 }
 
 }  // namespace stepstone::test

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <filesystem>
+#include <string>
 
 namespace stepstone::test {
 
@@ -16,5 +17,12 @@ void make_newer_stepstone(const std::filesystem::path& path);
 void make_truncated_stepstone(const std::filesystem::path& path);
 /// A stepstone database stamped with schema version 0 (as before any migration).
 void make_old_stepstone(const std::filesystem::path& path);
+
+/// The run digest of a run file (`stepstone db digest`), opened read-only.
+std::string file_digest(const std::filesystem::path& path);
+/// PRAGMA integrity_check of a file a killed writer may have left, opened for
+/// writing as a resume does (so that its WAL is recovered first): "ok" when
+/// sound, "absent" when the file does not exist.
+std::string integrity_check(const std::filesystem::path& path);
 
 }  // namespace stepstone::test

@@ -40,57 +40,62 @@ struct Argv {
     std::vector<char*> pointers;
 };
 
-}  // namespace
-
-CliResult run_cli(const std::vector<std::string>& args, const std::filesystem::path& cwd) {
-    TempDir capture;
-    const auto out_path = capture / "out";
-    const auto err_path = capture / "err";
-
+// Starts the binary with `args`, stdin from /dev/null, stdout and stderr to
+// the given files (/dev/null when empty), in `cwd` unless empty; returns its pid.
+pid_t spawn(const std::vector<std::string>& args, const std::filesystem::path& out_path,
+            const std::filesystem::path& err_path, const std::filesystem::path& cwd = {}) {
     Argv argv(args);
     const pid_t pid = ::fork();
     if (pid < 0) throw std::runtime_error("fork failed");
     if (pid == 0) {
-        // child: files for stdout/stderr, /dev/null for stdin
-        const int in = ::open("/dev/null", O_RDONLY);
-        const int out = ::open(out_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-        const int err = ::open(err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-        ::dup2(in, 0);
-        ::dup2(out, 1);
-        ::dup2(err, 2);
+        const auto open_output = [](const std::filesystem::path& path) {
+            return path.empty() ? ::open("/dev/null", O_WRONLY) : ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        };
+        ::dup2(::open("/dev/null", O_RDONLY), STDIN_FILENO);
+        ::dup2(open_output(out_path), STDOUT_FILENO);
+        ::dup2(open_output(err_path), STDERR_FILENO);
         if (!cwd.empty() && ::chdir(cwd.c_str()) != 0) ::_exit(127);
         ::execv(argv.pointers[0], argv.pointers.data());
         ::_exit(127);
     }
-    int status = 0;
-    ::waitpid(pid, &status, 0);
-    CliResult result;
-    result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-    result.out = read_file(out_path);
-    result.err = read_file(err_path);
-    return result;
+    return pid;
 }
 
-bool run_cli_killed_when(const std::vector<std::string>& args, const std::function<bool()>& ready,
-                         std::chrono::seconds timeout) {
-    Argv argv(args);
-    const pid_t pid = ::fork();
-    if (pid < 0) throw std::runtime_error("fork failed");
-    if (pid == 0) {
-        const int null = ::open("/dev/null", O_WRONLY);
-        ::dup2(null, STDOUT_FILENO);
-        ::dup2(null, STDERR_FILENO);
-        ::execv(argv.pointers[0], argv.pointers.data());
-        ::_exit(127);
-    }
+// Polls `ready()` every 5 ms until it holds or `timeout` passes; returns whether it held.
+bool wait_until(const std::function<bool()>& ready, std::chrono::seconds timeout) {
     const auto deadline = std::chrono::steady_clock::now() + timeout;
     bool held = false;
     while (!(held = ready()) && std::chrono::steady_clock::now() < deadline) {
         std::this_thread::sleep_for(std::chrono::milliseconds(5));
     }
-    ::kill(pid, SIGKILL);
+    return held;
+}
+
+// Reaps `pid`; the exit status (128 + signal if killed) and the captured output.
+CliResult reap(pid_t pid, const std::filesystem::path& out_path, const std::filesystem::path& err_path) {
     int status = 0;
     ::waitpid(pid, &status, 0);
+    CliResult result;
+    result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    if (!out_path.empty()) result.out = read_file(out_path);
+    if (!err_path.empty()) result.err = read_file(err_path);
+    return result;
+}
+
+}  // namespace
+
+CliResult run_cli(const std::vector<std::string>& args, const std::filesystem::path& cwd) {
+    TempDir capture;
+    const pid_t pid = spawn(args, capture / "out", capture / "err", cwd);
+    return reap(pid, capture / "out", capture / "err");
+}
+
+bool run_cli_killed_when(const std::vector<std::string>& args, const std::function<bool()>& ready,
+                         std::chrono::seconds timeout) {
+    const pid_t pid = spawn(args, {}, {});
+    const bool held = wait_until(ready, timeout);
+    ::kill(pid, SIGKILL);
+    reap(pid, {}, {});
     return held;
 }
 
@@ -98,37 +103,15 @@ CliResult run_cli_signalled_when(const std::vector<std::string>& args, const std
                                  const std::function<void()>& while_running, int signal, double* seconds_to_exit,
                                  std::chrono::seconds timeout) {
     TempDir capture;
-    const auto out_path = capture / "out";
-    const auto err_path = capture / "err";
-    Argv argv(args);
-    const pid_t pid = ::fork();
-    if (pid < 0) throw std::runtime_error("fork failed");
-    if (pid == 0) {
-        const int in = ::open("/dev/null", O_RDONLY);
-        const int out = ::open(out_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-        const int err = ::open(err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-        ::dup2(in, 0);
-        ::dup2(out, 1);
-        ::dup2(err, 2);
-        ::execv(argv.pointers[0], argv.pointers.data());
-        ::_exit(127);
-    }
-    const auto deadline = std::chrono::steady_clock::now() + timeout;
-    while (!ready() && std::chrono::steady_clock::now() < deadline) {
-        std::this_thread::sleep_for(std::chrono::milliseconds(5));
-    }
+    const pid_t pid = spawn(args, capture / "out", capture / "err");
+    wait_until(ready, timeout);
     if (while_running) while_running();
     const auto signalled = std::chrono::steady_clock::now();
     if (signal != 0) ::kill(pid, signal);
-    int status = 0;
-    ::waitpid(pid, &status, 0);
+    auto result = reap(pid, capture / "out", capture / "err");
     if (seconds_to_exit) {
         *seconds_to_exit = std::chrono::duration<double>(std::chrono::steady_clock::now() - signalled).count();
     }
-    CliResult result;
-    result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-    result.out = read_file(out_path);
-    result.err = read_file(err_path);
     return result;
 }
 

@@ -1,0 +1,53 @@
+#!/usr/bin/env bash
+# installed_package.sh BUILD_DIR SOURCE_DIR WORK_DIR
+# Installs the build into a fresh prefix and uses it as an outsider would:
+# examples/zdt1 built by CMake with find_package(stepstone) and by hand with
+# pkg-config, both run to the known ZDT1 front (hypervolume 2/3 w.r.t. (1, 1));
+# the installed binary's --version names the source tree's commit, and a run
+# it writes stores that commit.
+set -euo pipefail
+build=$1 source=$2 work=$3
+fail() { echo "installed_package: $*" >&2; exit 1; }
+
+rm -rf "$work" && mkdir -p "$work"
+prefix=$work/prefix
+cmake --install "$build" --prefix "$prefix" > "$work/install.log"
+
+# (the library folder is lib/ or lib/<multiarch>/, as GNUInstallDirs chooses for the prefix)
+for file in bin/stepstone include/stepstone/evo/nsga2.hpp include/stepstone/core/version.hpp \
+        share/stepstone/schema/0001_init.sql share/stepstone/queries/kb_growth.sql; do
+    [[ -e $prefix/$file ]] || fail "not installed: $file"
+done
+for file in libstepstone_core.a libstepstone_service.a stepstoneConfig.cmake stepstone.pc; do
+    [[ -n $(find "$prefix/lib" -name "$file") ]] || fail "not installed: $file"
+done
+[[ ! -e $prefix/include/stepstone/bench ]] || fail "the bench headers are internal but were installed"
+
+# CMake consumer: the example's own CMakeLists.txt in standalone mode
+cmake -S "$source/examples/zdt1" -B "$work/zdt1-cmake" -G Ninja -DCMAKE_BUILD_TYPE=Release \
+    -DCMAKE_PREFIX_PATH="$prefix" > "$work/zdt1-cmake.log" 2>&1 || { cat "$work/zdt1-cmake.log"; fail "find_package(stepstone) failed"; }
+cmake --build "$work/zdt1-cmake" > "$work/zdt1-build.log" 2>&1 || { cat "$work/zdt1-build.log"; fail "zdt1 does not build against the installed package"; }
+"$work/zdt1-cmake/example_zdt1" --generations 250 --seed 1 --min-hypervolume 0.65 || fail "zdt1 (CMake) missed the front"
+
+# pkg-config consumer
+export PKG_CONFIG_PATH=$(dirname "$(find "$prefix/lib" -name stepstone.pc)")
+flags=$(pkg-config --cflags --libs stepstone) || fail "pkg-config does not resolve stepstone"
+c++ -O2 "$source/examples/zdt1/main.cpp" -o "$work/zdt1-pc" $flags || fail "zdt1 does not build with pkg-config's flags"
+"$work/zdt1-pc" --generations 250 --seed 1 --min-hypervolume 0.65 || fail "zdt1 (pkg-config) missed the front"
+
+# the commit: from git directly, not from the build's own script
+if git -C "$source" rev-parse HEAD > /dev/null 2>&1; then
+    commit=$(git -C "$source" rev-parse HEAD | cut -c1-12)
+    version=$("$prefix/bin/stepstone" --version)
+    [[ $version == *"(commit $commit"* ]] || fail "--version says '$version', the tree is at $commit"
+    cat > "$work/tiny.json" <<'JSON'
+{"task": {"kind": "source", "steps_per_start": 100, "starts": 1},
+ "ea": {"population_size": 4, "generations": 1},
+ "kb": {"segment_width": 10, "delta": 1.0, "period": 1}}
+JSON
+    "$prefix/bin/stepstone" evolve --config "$work/tiny.json" --db "$work/run.db" --seed 1 --quiet
+    release=$(sed -n 's/^project(stepstone VERSION \([0-9.]*\).*/\1/p' "$source/CMakeLists.txt")
+    stored=$(sqlite3 "$work/run.db" "SELECT program_version FROM run")
+    [[ $stored == "$release+$commit"* ]] || fail "the run stores program_version '$stored', expected $release+$commit"
+fi
+echo "installed_package: ok"
