@@ -104,7 +104,7 @@ std::string seed_file(std::uint64_t seed) { return concat("seed-", seed, ".db");
 struct RunState {
     PlannedRun run;
     std::int64_t id = 0;
-    std::string status = "pending";
+    RunStatus status = RunStatus::pending;
     int generations_done = -1;
     std::optional<double> best_reward;
 };
@@ -122,7 +122,7 @@ std::optional<RunFileState> read_run_file(const fs::path& path) {
     const RunRecord run = load_run(connection);
     RunFileState state;
     state.generations_done = run.generations_done;
-    state.finished = run.status == "finished";
+    state.finished = run.status == RunStatus::finished;
     auto best = connection.prepare(db::sql("run/max_best_reward.sql"));
     if (best.step() && best.column_type(0) != db::Statement::Type::null) state.best_reward = best.column_double(0);
     return state;
@@ -131,7 +131,7 @@ std::optional<RunFileState> read_run_file(const fs::path& path) {
 void update_run_row(db::Connection& connection, const RunState& state, const std::optional<std::string>& digest,
                     double wall_time, const std::optional<std::string>& error) {
     auto update = connection.prepare(db::sql("campaign/update_run.sql"));
-    update.bind(":status", state.status)
+    update.bind(":status", to_string(state.status))
         .bind(":generations_done", state.generations_done)
         .bind(":best_reward", state.best_reward)
         .bind(":digest", digest)
@@ -166,7 +166,7 @@ public:
         for (std::size_t k : indices) {
             auto& state = runs_[k];
             const fs::path file = options_.dir / state.run.file;
-            if (state.status == "finished" && !fs::exists(file)) {
+            if (state.status == RunStatus::finished && !fs::exists(file)) {
                 std::fprintf(stderr, "campaign: %s is missing though campaign.db records it finished; running it again\n",
                              state.run.file.c_str());
             }
@@ -222,7 +222,7 @@ private:
 
     void mark_finished(std::size_t k, const RunFileState& on_disk, double wall_time) {
         auto& state = runs_[k];
-        state.status = "finished";
+        state.status = RunStatus::finished;
         state.generations_done = on_disk.generations_done;
         state.best_reward = on_disk.best_reward;
         auto run_connection = db::open_database(options_.dir / state.run.file, db::OpenMode::read_only);
@@ -235,21 +235,22 @@ private:
         fs::create_directories(file.parent_path());
         fs::create_directories(options_.dir / "logs");
         const fs::path log = log_path(state.run);
-        std::vector<std::string> args = {options_.program.string(),
-                                         "evolve",
-                                         "--config",
-                                         (options_.dir / "config" / (state.run.step + ".json")).string(),
-                                         "--db",
-                                         file.string(),
-                                         "--seed",
-                                         std::to_string(state.run.seed),
-                                         "--generations",
-                                         std::to_string(state.run.generations),
-                                         "--threads",
-                                         std::to_string(threads_),
-                                         "--quiet"};
+        std::vector<std::string> args = {
+            options_.program.string(),
+            "evolve",
+            "--config",
+            (options_.dir / "config" / concat(to_string(state.run.step), ".json")).string(),
+            "--db",
+            file.string(),
+            "--seed",
+            std::to_string(state.run.seed),
+            "--generations",
+            std::to_string(state.run.generations),
+            "--threads",
+            std::to_string(threads_),
+            "--quiet"};
         if (fs::exists(file)) args.emplace_back("--resume");
-        if (state.run.step == "target" && needs_kb(state.run.treatment)) {
+        if (state.run.step == CampaignStep::target && needs_kb(state.run.treatment)) {
             args.emplace_back("--kb");
             args.push_back((options_.dir / (needs_randomized_kb(state.run.treatment) ? kRandomKbFile : kKbFile)).string());
             args.emplace_back("--treatment");
@@ -278,7 +279,7 @@ private:
             ::execv(argv[0], argv.data());
             ::_exit(127);
         }
-        state.status = "running";
+        state.status = RunStatus::running;
         update_run_row(connection_, state, std::nullopt, 0.0, std::nullopt);
         return pid;
     }
@@ -299,7 +300,7 @@ private:
         }
         std::string error = WIFSIGNALED(status) ? concat("killed by signal ", WTERMSIG(status))
                                                 : last_line_of(log_path(state.run));
-        state.status = "failed";
+        state.status = RunStatus::failed;
         update_run_row(connection_, state, std::nullopt, wall, error);
         return concat(state.run.file, ": ", error);
     }
@@ -309,7 +310,7 @@ private:
         std::size_t finished = 0;
         for (std::size_t k = 0; k < runs_.size(); ++k) {
             auto& state = runs_[k];
-            if (state.status == "running") {
+            if (state.status == RunStatus::running) {
                 try {
                     if (auto on_disk = read_run_file(options_.dir / state.run.file)) {
                         state.generations_done = on_disk->generations_done;
@@ -318,14 +319,15 @@ private:
                     // being created or busy: keep the last reading
                 }
             }
-            if (state.status == "finished") ++finished;
+            if (state.status == RunStatus::finished) ++finished;
             done += static_cast<std::uint64_t>(std::max(0, state.generations_done + 1));
         }
         std::string status = concat("runs ", finished, "/", runs_.size());
         for (const auto& [pid, run] : active) {
             const auto& state = runs_[run.index];
-            status += concat("  ", state.run.step == "source" ? std::string("source")
-                                                               : std::string(to_string(state.run.treatment)),
+            status += concat("  ",
+                             state.run.step == CampaignStep::source ? to_string(state.run.step)
+                                                                    : to_string(state.run.treatment),
                              "/", state.run.seed, " g", std::max(0, state.generations_done), "/",
                              state.run.generations);
         }
@@ -414,7 +416,7 @@ void make_kbs(const CampaignOptions& options, const CampaignConfig& config, db::
     } else {
         std::vector<const RunState*> sources;
         for (const auto& state : runs) {
-            if (state.run.step == "source") sources.push_back(&state);
+            if (state.run.step == CampaignStep::source) sources.push_back(&state);
         }
         if (config.kb_from == KbFrom::best || sources.size() == 1) {
             const RunState* best = sources.front();
@@ -568,13 +570,15 @@ std::vector<PlannedRun> plan_runs(const CampaignConfig& config) {
     std::vector<PlannedRun> runs;
     if (config.source) {
         for (std::uint64_t seed : config.source->seeds) {
-            runs.push_back({"source", Treatment::none, seed, "source/" + seed_file(seed), config.source->generations});
+            runs.push_back({CampaignStep::source, Treatment::none, seed, "source/" + seed_file(seed),
+                            config.source->generations});
         }
     }
     // seed-major: an interrupted campaign leaves every treatment with as many finished runs
     for (std::uint64_t seed : config.target.seeds) {
         for (Treatment t : config.treatments) {
-            runs.push_back({"target", t, seed, concat("target/", to_string(t), "/", seed_file(seed)),
+            runs.push_back({CampaignStep::target, t, seed,
+                            concat("target/", to_string(t), "/", seed_file(seed)),
                             config.target.generations});
         }
     }
@@ -665,13 +669,14 @@ CampaignIndex load_campaign(const fs::path& dir) {
     auto runs = connection.prepare(db::sql("campaign/select_runs.sql"));
     while (runs.step()) {
         PlannedRun run;
-        run.step = runs.column_text(runs.column("step"));
+        run.step =
+            parse_campaign_step(runs.column_text(runs.column("step")), path.string() + ": campaign_run.step");
         run.treatment = parse_treatment(runs.column_text(runs.column("treatment")), "campaign_run.treatment");
         run.seed = static_cast<std::uint64_t>(runs.column_int(runs.column("seed")));
         run.file = runs.column_text(runs.column("file"));
         run.generations = static_cast<int>(runs.column_int(runs.column("generations")));
-        index.runs.push_back(run);
-        index.statuses.push_back(runs.column_text(runs.column("status")));
+        index.runs.push_back({run, parse_run_status(runs.column_text(runs.column("status")),
+                                                    path.string() + ": campaign_run.status")});
     }
     return index;
 }
@@ -719,7 +724,7 @@ CampaignSummary run_campaign(const CampaignOptions& given) {
             for (std::size_t k = 0; k < plan.size(); ++k) {
                 insert.reset();
                 insert.bind(":id", static_cast<std::int64_t>(k + 1))
-                    .bind(":step", plan[k].step)
+                    .bind(":step", to_string(plan[k].step))
                     .bind(":treatment", to_string(plan[k].treatment))
                     .bind(":seed", static_cast<std::int64_t>(plan[k].seed))
                     .bind(":file", plan[k].file)
@@ -752,9 +757,9 @@ CampaignSummary run_campaign(const CampaignOptions& given) {
     std::vector<RunState> runs;
     for (std::size_t k = 0; k < index.runs.size(); ++k) {
         RunState state;
-        state.run = index.runs[k];
+        state.run = index.runs[k].run;
         state.id = static_cast<std::int64_t>(k + 1);
-        state.status = index.statuses[k];
+        state.status = index.runs[k].status;
         runs.push_back(state);
     }
 
@@ -767,13 +772,14 @@ CampaignSummary run_campaign(const CampaignOptions& given) {
     Runner runner(options, connection, runs, progress);
 
     std::vector<std::size_t> sources, targets;
-    for (std::size_t k = 0; k < runs.size(); ++k) (runs[k].run.step == "source" ? sources : targets).push_back(k);
+    for (std::size_t k = 0; k < runs.size(); ++k)
+        (runs[k].run.step == CampaignStep::source ? sources : targets).push_back(k);
     summary.failures = runner.execute(sources, summary);
     if (summary.failures.empty()) {
         if (config.needs_kb()) make_kbs(options, config, connection, runs);
         summary.failures = runner.execute(targets, summary);
     }
-    for (const auto& state : runs) summary.finished += state.status == "finished" ? 1 : 0;
+    for (const auto& state : runs) summary.finished += state.status == RunStatus::finished ? 1 : 0;
     summary.wall_time = now_seconds() - started;
     progress.finish(concat("runs ", summary.finished, "/", summary.runs));
     return summary;

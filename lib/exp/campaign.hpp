@@ -2,15 +2,15 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <ostream>
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
 #include "core/progress.hpp"
 #include "exp/evolve_config.hpp"
+#include "exp/run_status.hpp"
 #include "exp/treatment.hpp"
 
 namespace stepstone::exp {
@@ -67,7 +67,7 @@ struct CampaignConfig {
 
 /// One planned run.
 struct PlannedRun {
-    std::string step;  ///< "source" or "target"
+    CampaignStep step = CampaignStep::target;
     Treatment treatment = Treatment::none;
     std::uint64_t seed = 0;
     std::string file;  ///< relative to the campaign directory, e.g. "target/sum/seed-3.db"
@@ -132,11 +132,16 @@ void throw_on_failures(const CampaignSummary& summary, const std::filesystem::pa
 /// not whole gzip data, Error when `out` cannot be written.
 void gunzip_file(const std::filesystem::path& in, const std::filesystem::path& out);
 
+/// A run as campaign.db lists it: its plan and where it stands.
+struct IndexedRun {
+    PlannedRun run;
+    RunStatus status = RunStatus::pending;
+};
+
 /// Where a campaign's runs and KBs are, read from campaign.db.
 struct CampaignIndex {
     nlohmann::json config;
-    std::vector<PlannedRun> runs;
-    std::vector<std::string> statuses;  ///< per run: pending | running | finished | failed
+    std::vector<IndexedRun> runs;  ///< in plan order
 };
 /// Reads campaign.db of `dir`; throws DatabaseError / DataError naming the file.
 CampaignIndex load_campaign(const std::filesystem::path& dir);

@@ -71,8 +71,9 @@ CampaignStats campaign_stats(const fs::path& dir, std::optional<int> generation,
     CampaignStats stats;
     stats.dir = dir.string();
     stats.threshold = threshold;
-    for (const auto& run : index.runs) {
-        if (run.step != "target") continue;
+    for (const auto& indexed : index.runs) {
+        const PlannedRun& run = indexed.run;
+        if (run.step != CampaignStep::target) continue;
         if (!generation) generation = run.generations;
         if (available_only && !fs::exists(dir / run.file)) {
             stats.skipped.push_back(run.file);

@@ -480,7 +480,7 @@ EvolveSummary run_evolve(const EvolveOptions& options) {
     const int target = config.ea.generations;
     summary.was_finished = options.resume && evolution.generation() >= target;
     run.generations = target;
-    run.status = "running";
+    run.status = RunStatus::running;
 
     Progress progress("generation", static_cast<std::uint64_t>(target), options.progress);
     const double started = now_seconds();
@@ -512,7 +512,7 @@ EvolveSummary run_evolve(const EvolveOptions& options) {
                       elapsed > 0 ? static_cast<double>(evaluations_here) / elapsed : 0.0);
         progress.update(static_cast<std::uint64_t>(evolution.generation()), status);
     }
-    run.status = "finished";
+    run.status = RunStatus::finished;
     update_run(connection, run);
     db::finish_writing(connection);
     if (!summary.was_finished) progress.finish();

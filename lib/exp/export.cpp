@@ -77,11 +77,12 @@ std::size_t export_csv(const fs::path& input, ExportWhat what, std::ostream& out
     } else {
         const auto index = load_campaign(input);
         for (std::size_t k = 0; k < index.runs.size(); ++k) {
-            const auto& run = index.runs[k];
+            const auto& run = index.runs[k].run;
             const fs::path file = input / run.file;
-            if (index.statuses[k] == "pending" && !fs::exists(file)) continue;
+            if (index.runs[k].status == RunStatus::pending && !fs::exists(file)) continue;
             rows += write_file_rows(file, what, {"task", "treatment", "seed"},
-                                    {run.step, std::string(to_string(run.treatment)), std::to_string(run.seed)},
+                                    {std::string(to_string(run.step)), std::string(to_string(run.treatment)),
+                                     std::to_string(run.seed)},
                                     header_done, out);
         }
     }

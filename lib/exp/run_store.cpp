@@ -14,7 +14,7 @@ void bind_progress(db::Statement& update, const RunRecord& run) {
     update.bind(":generations_done", run.generations_done)
         .bind(":evaluations", run.evaluations)
         .bind(":nan_outputs", run.nan_outputs)
-        .bind(":status", run.status)
+        .bind(":status", to_string(run.status))
         .bind(":generations", run.generations)
         .bind(":run_id", run.id);
 }
@@ -46,7 +46,8 @@ RunRecord load_run(db::Connection& connection) {
     } catch (const nlohmann::json::exception&) {
         throw DatabaseError(concat(connection.name(), ": run ", run.id, " has an unreadable config"));
     }
-    run.status = select.column_text(select.column("status"));
+    run.status =
+        parse_run_status(select.column_text(select.column("status")), connection.name() + ": run.status");
     run.generations = static_cast<int>(select.column_int(select.column("generations")));
     run.generations_done = static_cast<int>(select.column_int(select.column("generations_done")));
     run.evaluations = select.column_int(select.column("evaluations"));

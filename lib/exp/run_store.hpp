@@ -1,13 +1,13 @@
 #pragma once
 
 #include <cstdint>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
 #include "db/connection.hpp"
+#include "exp/run_status.hpp"
 #include "kb/knowledge_base.hpp"
 
 namespace stepstone::exp {
@@ -22,7 +22,7 @@ struct RunRecord {
     std::string treatment = "none";
     std::int64_t seed = 0;
     nlohmann::json config;          ///< effective config, seed included
-    std::string status = "running"; ///< running | finished
+    RunStatus status = RunStatus::running;  ///< running | finished
     int generations = 0;            ///< generations asked for
     int generations_done = -1;      ///< last committed generation (-1: none yet)
     std::int64_t evaluations = 0;

@@ -26,7 +26,9 @@ namespace {
 
 // a campaign_run row with what the report shows
 struct RunRow {
-    std::string step, treatment, file, status, digest, error;
+    exp::CampaignStep step = exp::CampaignStep::target;
+    exp::RunStatus status = exp::RunStatus::pending;
+    std::string treatment, file, digest, error;
     std::uint64_t seed = 0;
     int generations = 0, generations_done = -1;
     std::optional<double> best_reward;
@@ -48,12 +50,13 @@ std::vector<RunRow> load_runs(db::Connection& connection) {
     std::vector<RunRow> out;
     while (rows.step()) {
         RunRow r;
-        r.step = rows.column_text(step);
+        r.step = exp::parse_campaign_step(rows.column_text(step), connection.name() + ": campaign_run.step");
         r.treatment = rows.column_text(treatment);
         r.seed = static_cast<std::uint64_t>(rows.column_int(seed));
         r.file = rows.column_text(file);
         r.generations = static_cast<int>(rows.column_int(generations));
-        r.status = rows.column_text(status);
+        r.status =
+            exp::parse_run_status(rows.column_text(status), connection.name() + ": campaign_run.status");
         r.generations_done = static_cast<int>(rows.column_int(done));
         if (!rows.is_null(best)) r.best_reward = rows.column_double(best);
         if (!rows.is_null(digest)) r.digest = rows.column_text(digest);
@@ -87,7 +90,7 @@ std::optional<exp::CampaignStats> load_stats(const ReportOptions& options, const
         int reached = -1;
         bool any = false;
         for (const auto& r : runs) {
-            if (r.step != "target") continue;
+            if (r.step != exp::CampaignStep::target) continue;
             reached = any ? std::min(reached, r.generations_done) : r.generations_done;
             any = true;
         }
@@ -156,7 +159,9 @@ void add_statistics(Page& page, const exp::CampaignStats& stats, const std::vect
         treatments.push_back(t.treatment);
         series.emplace_back();
         for (const auto& r : runs) {
-            if (r.step != "target" || r.treatment != exp::to_string(t.treatment) || !fs::exists(dir / r.file)) continue;
+            if (r.step != exp::CampaignStep::target || r.treatment != exp::to_string(t.treatment) ||
+                !fs::exists(dir / r.file))
+                continue;
             auto connection = db::open_database(dir / r.file, db::OpenMode::read_only);
             series.back().push_back(load_generations(connection, exp::load_run(connection).id));
         }
@@ -180,7 +185,7 @@ void add_statistics(Page& page, const exp::CampaignStats& stats, const std::vect
 }
 
 // the finished run of `step` with the highest best reward (first on ties)
-const RunRow* best_run(const std::vector<RunRow>& runs, const std::string& step) {
+const RunRow* best_run(const std::vector<RunRow>& runs, exp::CampaignStep step) {
     const RunRow* best = nullptr;
     for (const auto& r : runs) {
         if (r.step != step || !r.best_reward || r.generations_done < 0) continue;
@@ -201,7 +206,7 @@ void campaign_report(const ReportOptions& options, const fs::path& dir, ReportSu
     Page page(dir, concat("stepstone report: campaign ", campaign_dir.lexically_normal().string()));
 
     std::size_t finished = 0;
-    for (const auto& r : runs) finished += r.status == "finished";
+    for (const auto& r : runs) finished += r.status == exp::RunStatus::finished;
     page.paragraph(concat("Campaign directory <code>", xml_escape(campaign_dir.string()), "</code>: ", runs.size(),
                           " runs, ", finished, " finished."));
 
@@ -225,14 +230,14 @@ void campaign_report(const ReportOptions& options, const fs::path& dir, ReportSu
         add_kb_section(page, "", *kb, row->made_from);
     }
     progress.update(2);
-    if (const auto* source = best_run(runs, "source")) {
+    if (const auto* source = best_run(runs, exp::CampaignStep::source)) {
         page.heading("The best source policy");
         const auto trace = trace_policy(campaign_dir / source->file, "best", 0, kb ? &kb->kb : nullptr,
                                         kb ? kb->name : "");
         add_trajectory(page, "source-best", trace, concat("The best policy of ", source->file));
     }
     progress.update(3);
-    if (const auto* target = best_run(runs, "target")) {
+    if (const auto* target = best_run(runs, exp::CampaignStep::target)) {
         page.heading("The best target policy");
         // coloured by the KB the run was shaped with
         const bool randomized = target->treatment.ends_with("-rand");
@@ -248,9 +253,10 @@ void campaign_report(const ReportOptions& options, const fs::path& dir, ReportSu
     page.heading("Runs");
     std::vector<std::vector<std::string>> rows;
     for (const auto& r : runs) {
-        rows.push_back({r.file, r.step, r.treatment, std::to_string(r.seed),
-                        concat(r.generations_done, " / ", r.generations), r.status,
-                        r.best_reward ? fixed(*r.best_reward, 4) : "-", format_duration(r.wall_time),
+        rows.push_back({r.file, std::string(exp::to_string(r.step)), r.treatment, std::to_string(r.seed),
+                        concat(r.generations_done, " / ", r.generations),
+                        std::string(exp::to_string(r.status)), r.best_reward ? fixed(*r.best_reward, 4) : "-",
+                        format_duration(r.wall_time),
                         r.digest.empty() ? (r.error.empty() ? "-" : r.error) : r.digest.substr(0, 16)});
     }
     page.table({"file", "step", "treatment", "seed", "generations", "status", "best reward", "time",

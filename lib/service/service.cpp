@@ -362,7 +362,7 @@ json KbService::runs() const {
                  {"seed", run.seed},
                  {"file", file.path.filename().string()},
                  {"generations", run.generations},
-                 {"status", run.status},
+                 {"status", exp::to_string(run.status)},
                  {"generations_done", run.generations_done},
                  {"best_reward", json()}};
         if (best.value_or(0) > 0) {
@@ -396,7 +396,10 @@ json KbService::campaign() const {
     if (!campaign_) throw HttpError(404, "not serving a campaign directory");
     const auto index = exp::load_campaign(input_);
     json by_status = json::object();
-    for (const auto& status : index.statuses) by_status[status] = by_status.value(status, 0) + 1;
+    for (const auto& entry : index.runs) {
+        const std::string status(exp::to_string(entry.status));
+        by_status[status] = by_status.value(status, 0) + 1;
+    }
     json kbs = json::array();
     for (const auto& kb : kbs_) kbs.push_back(kb->name);
     return {{"directory", input_.filename().string()}, {"config", index.config}, {"runs", by_status}, {"kbs", kbs}};
