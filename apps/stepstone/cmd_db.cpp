@@ -68,7 +68,7 @@ void run_db_migrate(const std::string& file) {
 
 void run_db_digest(const std::string& file) {
     auto connection = db::open_database(file, db::OpenMode::read_only);
-    if (connection.query_int("SELECT COUNT(*) FROM run").value_or(0) == 0) {
+    if (connection.query_int(db::sql("run/count_runs.sql")).value_or(0) == 0) {
         throw DataError(file + ": holds no run (db digest hashes a run file; kb stats describes a knowledge base)");
     }
     std::cout << db::run_digest(connection) << '\n';

@@ -1,7 +1,6 @@
 // stepstone kb export | merge | randomize | calibrate | stats | annotate
 
 #include <filesystem>
-#include <iomanip>
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -12,20 +11,15 @@
 #include "commands.hpp"
 #include "core/error.hpp"
 #include "core/text.hpp"
-#include "db/kb_store.hpp"
-#include "exp/kb_tools.hpp"
+#include "exp/kb_duplicates.hpp"
+#include "exp/run_store.hpp"
+#include "kb_output.hpp"
 
 namespace stepstone::app {
 
 namespace {
 
-void print_written(const std::string& out, const exp::KbWritten& kb) {
-    std::cout << out << ": knowledge base \"" << kb.name << "\", " << kb.segments
-              << " segments (segment_width " << kb.params.segment_width << ", channels " << kb.params.channels
-              << ", delta " << kb.params.delta << ")";
-    if (kb.randomized_seed) std::cout << ", randomized with seed " << *kb.randomized_seed;
-    std::cout << '\n';
-}
+void print_written(const std::string& out, const exp::KbWritten& kb) { write_written(std::cout, out, kb); }
 
 // ------------------------------------------------------------------- export
 
@@ -42,7 +36,7 @@ void add_export(CLI::App& kb_cmd) {
     auto* cmd = kb_cmd.add_subcommand("export", "Write a run's knowledge base as a standalone KB file");
     cmd->add_option("run", flags->run, "Run database (opened read-only)")->required();
     cmd->add_option("--out", flags->out, "New KB file (written atomically)")->required();
-    cmd->add_option("--name", flags->name, "Name of the KB in the run file (default: run)");
+    cmd->add_option("--name", flags->name, "Name of the KB in the run file (default: " + flags->name + ")");
     cmd->add_option("--delta", flags->delta,
                     "Coarsen: re-observe the KB's segments under this larger delta (a smaller KB)");
     cmd->add_flag("--force", flags->force, "Overwrite an existing --out file");
@@ -82,9 +76,12 @@ void add_merge(CLI::App& kb_cmd) {
     cmd->footer(example({"stepstone kb merge a.db b.db c.db --out merged.db"}));
     cmd->callback([flags] {
         std::vector<std::filesystem::path> inputs(flags->inputs.begin(), flags->inputs.end());
-        print_written(flags->out,
-                      exp::merge_kb_files(inputs, flags->out, flags->name, flags->force, flags->input_name,
-                                          flags->allow_duplicates));
+        try {
+            print_written(flags->out, exp::merge_kb_files(inputs, flags->out, flags->name, flags->force,
+                                                          flags->input_name, flags->allow_duplicates));
+        } catch (const exp::DuplicateKbs& e) {
+            throw ConfigError(concat(e.what(), " (use --allow-duplicates to merge anyway)"));
+        }
     });
 }
 
@@ -123,7 +120,7 @@ struct CalibrateFlags {
     std::string individual = "best";
     std::string deltas = "0.5,1,1.5,1.83,2,2.5,3,4";
     std::optional<std::size_t> segment_width;
-    std::size_t neighbours = 20;
+    std::size_t neighbours = kb::kDefaultNeighbours;
     unsigned threads = 0;
     bool json = false;
     bool quiet = false;
@@ -133,41 +130,17 @@ void run_calibrate(const CalibrateFlags& flags) {
     exp::CalibrateOptions options;
     options.individual = flags.individual;
     options.segment_width = flags.segment_width;
-    if (flags.deltas != "none") options.deltas = exp::parse_deltas(flags.deltas);
+    options.width_name = "--segment-width";
+    if (flags.deltas != "none") options.deltas = exp::parse_deltas(flags.deltas, "--deltas");
     options.neighbours = flags.neighbours;
     options.threads = flags.threads;
     options.progress = flags.quiet ? ProgressMode::quiet : ProgressMode::automatic;
     if (options.neighbours == 0) throw ConfigError("--neighbours must be >= 1, got 0");
     const auto result = exp::calibrate_run(flags.run, options);
-    const auto& c = result.calibration;
     if (flags.json) {
-        nlohmann::json out;
-        out["individual_id"] = result.individual_id;
-        out["reward"] = result.reward;
-        out["segment_width"] = c.segment_width;
-        out["segment_width_from"] = result.width_from;
-        out["channels"] = c.channels;
-        out["neighbours"] = c.neighbours;
-        out["segments"] = c.segments;
-        out["delta"] = c.delta;
-        out["policies"] = c.policies;
-        out["sizes"] = nlohmann::json::array();
-        for (const auto& row : c.sizes)
-            out["sizes"].push_back({{"delta", row.delta}, {"segments", row.size}});
-        std::cout << out.dump(2) << '\n';
-        return;
-    }
-    std::cout << "individual      " << result.individual_id << " (stored reward " << result.reward << ")\n"
-              << "segment_width   " << c.segment_width << " (" << result.width_from << ")\n"
-              << "segments        " << c.segments << " of " << c.channels << " channels\n"
-              << "delta           " << c.delta << "  (mean distance of each segment to its " << c.neighbours
-              << " nearest others, averaged)\n";
-    if (c.sizes.empty()) return;
-    std::cout << "\nKB size over the " << c.policies << " stored policies\n"
-              << "  delta       segments\n";
-    for (const auto& row : c.sizes) {
-        std::cout << "  " << std::left << std::setw(10) << row.delta << std::right << std::setw(10)
-                  << row.size << '\n';
+        std::cout << to_json(result).dump(2) << '\n';
+    } else {
+        write_text(std::cout, result);
     }
 }
 
@@ -182,8 +155,11 @@ void add_calibrate(CLI::App& kb_cmd) {
                     "Comma-separated deltas for the size table (default: " + flags->deltas +
                         "), or 'none' for the delta alone");
     cmd->add_option("--segment-width", flags->segment_width,
-                    "Steps per segment (default: the run's knowledge base's, else 20)");
-    cmd->add_option("--neighbours", flags->neighbours, "Nearest segments averaged by the rule (default: 20)");
+                    "Steps per segment (default: the run's knowledge base's, else " +
+                        std::to_string(kb::kDefaultSegmentWidth) + ")");
+    cmd->add_option(
+        "--neighbours", flags->neighbours,
+        "Nearest segments averaged by the rule (default: " + std::to_string(flags->neighbours) + ")");
     cmd->add_option("--threads", flags->threads,
                     "Replays and size-table KBs at once (default: all cores); results do not depend on it");
     cmd->add_flag("--json", flags->json, "Print JSON instead of text");
@@ -212,9 +188,9 @@ void add_stats(CLI::App& kb_cmd) {
     cmd->callback([flags] {
         const auto stats = exp::kb_file_stats(flags->kb, flags->name);
         if (flags->json) {
-            std::cout << exp::to_json(stats).dump(2) << '\n';
+            std::cout << to_json(stats).dump(2) << '\n';
         } else {
-            exp::write_text(std::cout, stats);
+            write_text(std::cout, stats);
         }
     });
 }
@@ -243,11 +219,13 @@ void add_annotate(CLI::App& kb_cmd) {
     cmd->footer(example({"stepstone kb annotate run.db --kb kb.db --individuals front",
                          "sqlite3 run.db < queries/policy_saliency.sql"}));
     cmd->callback([flags] {
-        const auto which = exp::parse_policy_set(flags->individuals);
-        const auto done = exp::annotate_run(flags->run, flags->kb, which, flags->kb_name, flags->as_name);
-        std::cout << flags->run << ": " << done.individuals.size() << " policies, " << done.rows
-                  << " policy_segment rows, kb_id " << done.kb_id << " (\"" << done.kb_name << "\", "
-                  << (done.copied ? "copied into the run file" : "already in the run file") << ")\n";
+        const auto which = exp::parse_policy_set(flags->individuals, "--individuals");
+        try {
+            write_text(std::cout, flags->run,
+                       exp::annotate_run(flags->run, flags->kb, which, flags->kb_name, flags->as_name));
+        } catch (const exp::KbNameTaken& e) {
+            throw DataError(concat(e.what(), "; choose another name with --as"));
+        }
     });
 }
 

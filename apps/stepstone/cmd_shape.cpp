@@ -5,7 +5,7 @@
 #include <string>
 
 #include "commands.hpp"
-#include "exp/kb_tools.hpp"
+#include "kb_output.hpp"
 
 namespace stepstone::app {
 
@@ -33,9 +33,9 @@ void add_shape_command(CLI::App& app) {
     cmd->callback([flags] {
         const auto shaping = exp::shape_policy(flags->kb, flags->run, flags->individual, flags->kb_name);
         if (flags->json) {
-            std::cout << exp::to_json(shaping).dump(2) << '\n';
+            std::cout << to_json(shaping).dump(2) << '\n';
         } else {
-            exp::write_text(std::cout, shaping);
+            write_text(std::cout, shaping);
         }
     });
 }

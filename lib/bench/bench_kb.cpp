@@ -26,7 +26,7 @@ namespace stepstone::bench {
 
 namespace {
 
-// the paper's shapes (DESIGN.md section 4)
+// the paper's shapes (docs/runs.md)
 constexpr std::size_t kChannels = 15;
 constexpr std::size_t kWidth = 20;
 constexpr std::size_t kDim = kChannels * kWidth;

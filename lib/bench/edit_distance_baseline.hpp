@@ -1,6 +1,6 @@
 #pragma once
 
-// The behavioural distance the original computes (ORIGINAL.md 5.3, 5.4), the
+// The behavioural distance the original computes (docs/original.md: diversity), the
 // original way: one freshly allocated (n + 1) x (m + 1) table per pair and the
 // full symmetric matrix of a generation, sequentially. Kept as the baseline of
 // `stepstone bench diversity`.

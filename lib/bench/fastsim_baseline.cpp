@@ -52,7 +52,7 @@ bool supercover_walk(const BitmapMap& map, int a, int b, int da, int db, int sa,
     return false;
 }
 
-// light sensors: colour and mounting angle, in input order (ORIGINAL.md 2.1)
+// light sensors: colour and mounting angle, in input order (docs/original.md: arena)
 struct LightSensorSpec {
     LightColor color;
     float angle;
@@ -70,7 +70,7 @@ constexpr float kLightHalfWindow = (kPi / 2 + 0.01f) / 2;
 // laser mounting angles: right, left, middle
 constexpr std::array<float, 3> kLaserAngles{kPi / 4, -kPi / 4, 0.0f};
 
-// task constants (ORIGINAL.md 1.3, 1.4, 4)
+// task constants (docs/original.md: objects, arena)
 constexpr std::array<BitmapPose, 3> kStartPoses{{
     {296.25f, 101.25f, kPi / 4},
     {498.75f, 303.75f, -3 * kPi / 4},
@@ -92,7 +92,7 @@ float distance(float x0, float y0, float x1, float y1) {
 }  // namespace
 
 std::vector<WallRect> arena_walls(Door door) {
-    // world edges of ORIGINAL.md 1.2; every edge lies between two pixel centres
+    // world edges (docs/original.md: arena); every edge lies between two pixel centres
     std::vector<WallRect> walls{
         {0.0f, 0.0f, 9.1f, 600.0f},         // outer left
         {588.9f, 0.0f, 600.0f, 600.0f},     // outer right
@@ -268,7 +268,7 @@ void BitmapRobot::sensor_inputs(float* out11) const {
 
 BitmapCollectBall::BitmapCollectBall(const BitmapArena& arena, BitmapTask task)
     : arena_(&arena), task_(task), map_(&arena.closed) {
-    // balls first, then the basket lights, then the switch (ORIGINAL.md 1.3)
+    // balls first, then the basket lights, then the switch (docs/original.md: objects)
     const float w = 405.0f;
     if (task_ == BitmapTask::source) {
         lights_ = {

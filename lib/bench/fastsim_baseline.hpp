@@ -4,7 +4,7 @@
 // baseline of `stepstone bench sim` and `stepstone bench episode`: the
 // 296 x 296 one-bit bitmap, supercover Bresenham lasers and lines of sight,
 // pixel-scan collision with bumpers, arc odometry and the collectball task
-// rules (ORIGINAL.md sections 1-4 and 8). Written to be as fast as fastsim
+// rules (docs/original.md: arena, objects, speed). Written to be as fast as fastsim
 // itself, not faster (no geometric shortcuts) and not slower (no per-step
 // allocation, no file reads on door swaps).
 
@@ -16,7 +16,7 @@
 
 namespace stepstone::bench {
 
-/// Side of the square bitmap, in pixels (ORIGINAL.md 1.1).
+/// Side of the square bitmap, in pixels (docs/original.md: arena).
 inline constexpr int kMapPixels = 296;
 /// Side of the square world the bitmap covers, in world units.
 inline constexpr float kMapWorld = 600.0f;
@@ -36,7 +36,7 @@ struct WallRect {
     float x0, y0, x1, y1;
 };
 
-/// The walls of ORIGINAL.md 1.2 (plus the outer walls of the unreachable
+/// The walls (docs/original.md: arena; plus the outer walls of the unreachable
 /// lower box), for the given door state.
 std::vector<WallRect> arena_walls(Door door);
 
@@ -48,7 +48,7 @@ public:
     /// (i / fx, j / fx) lies in a wall, so pixel i covers world
     /// [(i - 0.5) / fx, (i + 0.5) / fx).
     explicit BitmapMap(std::span<const WallRect> walls);
-    /// The arena of ORIGINAL.md 1.2 with the door in the given state.
+    /// The original arena (docs/original.md: arena) with the door in the given state.
     explicit BitmapMap(Door door);
 
     /// True if (x, y) is a wall pixel or outside the map.
@@ -86,11 +86,11 @@ struct BitmapPose {
 /// fastsim's angle normalisation into [-pi, pi].
 float normalize_angle(float a);
 
-/// Exact differential-drive arc odometry (ORIGINAL.md 3.2): wheel
+/// Exact differential-drive arc odometry (docs/original.md: arena): wheel
 /// displacements in world units, wheels 40 apart.
 BitmapPose arc_move(const BitmapPose& pose, float d_left, float d_right);
 
-/// Colours of the illuminated objects (ORIGINAL.md 1.3).
+/// Colours of the illuminated objects (docs/original.md: objects).
 enum class LightColor : std::uint8_t { basket = 2, ball = 3, button = 4 };
 
 /// An illuminated switch: a ball, a basket light or the door switch.
@@ -103,7 +103,7 @@ struct Light {
 
 /// A differential-drive robot of radius 20 with the paper's sensors: 3 lasers
 /// (+pi/4, -pi/4, 0; range 320), 6 binary light sensors (ball, basket, switch
-/// at +-pi/4) and 2 bumpers (ORIGINAL.md 2).
+/// at +-pi/4) and 2 bumpers (docs/original.md: arena).
 class BitmapRobot {
 public:
     /// Robot radius in world units.
@@ -135,7 +135,7 @@ public:
     /// Sticky: any collision since the last reinit().
     bool collision() const { return collision_; }
 
-    /// The 11 sensor inputs of ORIGINAL.md 2.2 (lasers, lights, bumpers).
+    /// The 11 sensor inputs (lasers, lights, bumpers; docs/original.md: arena).
     void sensor_inputs(float* out11) const;
 
 private:
@@ -153,7 +153,7 @@ private:
     std::vector<std::array<int, 2>> contacts_;
 };
 
-/// Which collectball variant an episode runs (ORIGINAL.md 1.5, 1.6).
+/// Which collectball variant an episode runs (docs/original.md: objects).
 enum class BitmapTask { source, target };
 
 /// Both door states of the arena; immutable, shared by episodes.
@@ -177,7 +177,7 @@ struct BitmapRecording {
 };
 
 /// The collectball evaluation as the original runs it, one step at a time
-/// (ORIGINAL.md 3.5): the caller feeds inputs to a controller and passes its
+/// (docs/original.md: arena): the caller feeds inputs to a controller and passes its
 /// outputs back. Use run_bitmap_episode for the whole loop.
 class BitmapCollectBall {
 public:
@@ -197,7 +197,7 @@ public:
     void begin_start(int index);
     /// Per-step task bookkeeping before the inputs are read (switch timer).
     void pre_step();
-    /// The 12 inputs of ORIGINAL.md 2.2.
+    /// The 12 inputs, in the order of docs/original.md (arena).
     void inputs(float* in12) const;
     /// Records the step's inputs and outputs, then applies the action and the
     /// move (outputs already NaN-free). Returns false once the stand-still

@@ -1,6 +1,6 @@
 #pragma once
 
-// A recurrent network evaluated the way sferes2/nn2 does it (ORIGINAL.md 6.8,
+// A recurrent network evaluated the way sferes2/nn2 does it (docs/original.md: network,
 // 8.4): neurons in a linked list, each with a linked list of incoming edges
 // walked every step, the predecessors' outputs gathered into a buffer, a dot
 // product with the weights and one exp per neuron, then a synchronous copy of

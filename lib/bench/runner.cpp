@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include "stats/summary.hpp"
+
 namespace stepstone::bench {
 
 namespace {
@@ -23,12 +25,6 @@ double measure(const Work& work, double min_seconds, const std::string& what) {
         elapsed = std::chrono::duration<double>(Clock::now() - start).count();
     } while (elapsed < min_seconds);
     return static_cast<double>(units) / elapsed;
-}
-
-double median(std::vector<double> values) {
-    std::sort(values.begin(), values.end());
-    const std::size_t n = values.size();
-    return n % 2 == 1 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
 }
 
 }  // namespace
@@ -68,8 +64,8 @@ CaseResult run_case(const Case& c, const RunOptions& options, const RoundCallbac
     CaseResult result;
     result.name = c.name;
     result.unit = c.unit;
-    result.baseline_per_s = median(baseline_rates);
-    result.candidate_per_s = median(candidate_rates);
+    result.baseline_per_s = stats::median(baseline_rates);
+    result.candidate_per_s = stats::median(candidate_rates);
     result.ratio = result.candidate_per_s / result.baseline_per_s;
     result.target_ratio = c.target_ratio;
     return result;

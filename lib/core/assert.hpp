@@ -1,7 +1,8 @@
 #pragma once
 
-// STEPSTONE_ASSERT checks internal invariants. It is on in Debug and test
-// builds and compiles to nothing under NDEBUG. User input is validated at the
+// STEPSTONE_ASSERT checks internal invariants. It is on in Debug and in the
+// `sanitize` preset that scripts/test runs, and compiles to nothing under
+// NDEBUG (Release, the `ci` preset). User input is validated at the
 // boundary with exceptions (core/error.hpp), never with asserts.
 
 #include <cstdio>

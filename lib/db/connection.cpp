@@ -122,6 +122,7 @@ Statement::Statement(Connection& connection, std::string_view sql, std::string_v
     if (!stmt_ && !rest) {
         throw DatabaseError(concat(connection.name(), ": empty statement"));
     }
+    bound_.assign(static_cast<std::size_t>(parameter_count()), false);
 }
 
 Statement::~Statement() {
@@ -129,24 +130,46 @@ Statement::~Statement() {
 }
 
 Statement::Statement(Statement&& other) noexcept
-    : connection_(other.connection_), stmt_(std::exchange(other.stmt_, nullptr)) {}
+    : connection_(other.connection_),
+      stmt_(std::exchange(other.stmt_, nullptr)),
+      bound_(std::move(other.bound_)),
+      executing_(other.executing_) {}
 
 void Statement::check(int rc, std::string_view context) const {
     if (rc != SQLITE_OK) connection_->fail(context);
 }
 
+void Statement::mark_bound(int index) {
+    // SQLite refused an index out of range already (check)
+    bound_[static_cast<std::size_t>(index - 1)] = true;
+}
+
+void Statement::check_bound() const {
+    for (std::size_t i = 0; i < bound_.size(); ++i) {
+        if (!bound_[i]) {
+            const int index = static_cast<int>(i + 1);
+            const std::string name = parameter_name(index);
+            throw DatabaseError(concat(connection_->name(), ": statement parameter ",
+                                       name.empty() ? concat('?', index) : name, " is not bound"));
+        }
+    }
+}
+
 Statement& Statement::bind(int index, std::int64_t value) {
     check(sqlite3_bind_int64(stmt_, index, value), "bind");
+    mark_bound(index);
     return *this;
 }
 
 Statement& Statement::bind(int index, double value) {
     check(sqlite3_bind_double(stmt_, index, value), "bind");
+    mark_bound(index);
     return *this;
 }
 
 Statement& Statement::bind(int index, std::string_view value) {
     check(sqlite3_bind_text64(stmt_, index, value.data(), value.size(), SQLITE_TRANSIENT, SQLITE_UTF8), "bind");
+    mark_bound(index);
     return *this;
 }
 
@@ -155,11 +178,13 @@ Statement& Statement::bind_blob(int index, std::span<const std::byte> value) {
     check(sqlite3_bind_blob64(stmt_, index, value.empty() ? "" : static_cast<const void*>(value.data()),
                               value.size(), SQLITE_TRANSIENT),
           "bind");
+    mark_bound(index);
     return *this;
 }
 
 Statement& Statement::bind_null(int index) {
     check(sqlite3_bind_null(stmt_, index), "bind");
+    mark_bound(index);
     return *this;
 }
 
@@ -180,6 +205,10 @@ std::string Statement::parameter_name(int index) const {
 }
 
 bool Statement::step() {
+    if (!executing_) {
+        check_bound();
+        executing_ = true;
+    }
     const int rc = sqlite3_step(stmt_);
     if (rc == SQLITE_ROW) return true;
     if (rc == SQLITE_DONE) return false;
@@ -194,11 +223,20 @@ void Statement::run() {
 void Statement::reset() {
     sqlite3_reset(stmt_);
     sqlite3_clear_bindings(stmt_);
+    bound_.assign(bound_.size(), false);
+    executing_ = false;
 }
 
 int Statement::column_count() const { return sqlite3_column_count(stmt_); }
 
 std::string Statement::column_name(int index) const { return sqlite3_column_name(stmt_, index); }
+
+int Statement::column(std::string_view name) const {
+    for (int i = 0; i < column_count(); ++i) {
+        if (name == sqlite3_column_name(stmt_, i)) return i;
+    }
+    throw DatabaseError(concat(connection_->name(), ": statement has no column ", name));
+}
 
 Statement::Type Statement::column_type(int index) const {
     switch (sqlite3_column_type(stmt_, index)) {

@@ -68,7 +68,11 @@ private:
     OpenMode mode_ = OpenMode::read_only;
 };
 
-/// A prepared statement (RAII). bind() indices start at 1, column() at 0.
+/// A prepared statement (RAII). Parameters are bound by name (":run_id", as
+/// the sql/ files write them) or by index from 1; columns are read by index
+/// from 0, found by name with column(). Stepping a statement with a parameter
+/// left unbound throws DatabaseError naming it: a NULL is bound explicitly
+/// (bind_null, or bind of an empty optional).
 class Statement {
 public:
     Statement(Connection& connection, std::string_view sql);
@@ -92,6 +96,16 @@ public:
     Statement& bind(int index, const std::optional<T>& value) {
         return value ? bind(index, *value) : bind_null(index);
     }
+    /// Binds the parameter called `name` (":name"); throws DatabaseError if
+    /// the statement has no such parameter.
+    template <class T>
+    Statement& bind(std::string_view name, const T& value) {
+        return bind(parameter(name), value);
+    }
+    Statement& bind_blob(std::string_view name, std::span<const std::byte> value) {
+        return bind_blob(parameter(name), value);
+    }
+    Statement& bind_null(std::string_view name) { return bind_null(parameter(name)); }
     /// Index of a named parameter (":name"); throws if the statement has none.
     int parameter(std::string_view name) const;
     int parameter_count() const;
@@ -109,6 +123,9 @@ public:
 
     int column_count() const;
     std::string column_name(int index) const;
+    /// Index of the result column called `name`; throws DatabaseError if the
+    /// statement has none.
+    int column(std::string_view name) const;
     /// The storage class of a column of the current row.
     enum class Type { integer, real, text, blob, null };
     Type column_type(int index) const;
@@ -120,9 +137,15 @@ public:
 
 private:
     void check(int rc, std::string_view context) const;
+    // records that parameter `index` is bound
+    void mark_bound(int index);
+    // throws for the first parameter not bound before an execution starts
+    void check_bound() const;
 
     Connection* connection_;
     sqlite3_stmt* stmt_ = nullptr;
+    std::vector<bool> bound_;  // per parameter, since the last reset
+    bool executing_ = false;   // stepped since the last reset
 };
 
 /// A transaction that rolls back unless commit() is called. BEGIN IMMEDIATE,

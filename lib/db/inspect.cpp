@@ -20,13 +20,13 @@ std::vector<TableCount> table_counts(Connection& connection) {
 
 std::string meta_value(Connection& connection, std::string_view key) {
     auto get = connection.prepare(sql("db/meta_get.sql"));
-    get.bind(1, key);
+    get.bind(":key", key);
     return get.step() ? get.column_text(0) : std::string();
 }
 
 void set_meta_value(Connection& connection, std::string_view key, std::string_view value) {
     auto set = connection.prepare(sql("db/meta_set.sql"));
-    set.bind(1, key).bind(2, value).run();
+    set.bind(":key", key).bind(":value", value).run();
 }
 
 }  // namespace stepstone::db

@@ -20,12 +20,12 @@ void write_sources(Connection& connection, std::int64_t kb_id, const kb::Knowled
     const auto sources = kb.sources();
     for (std::size_t i = 0; i < sources.size(); ++i) {
         upsert.reset();
-        upsert.bind(1, kb_id)
-            .bind(2, static_cast<std::int64_t>(i))
-            .bind(3, sources[i].run)
-            .bind(4, sources[i].first_generation)
-            .bind(5, sources[i].last_generation)
-            .bind(6, static_cast<std::int64_t>(sources[i].policies))
+        upsert.bind(":kb_id", kb_id)
+            .bind(":source", static_cast<std::int64_t>(i))
+            .bind(":run", sources[i].run)
+            .bind(":first_generation", sources[i].first_generation)
+            .bind(":last_generation", sources[i].last_generation)
+            .bind(":policies", static_cast<std::int64_t>(sources[i].policies))
             .run();
     }
 }
@@ -33,15 +33,15 @@ void write_sources(Connection& connection, std::int64_t kb_id, const kb::Knowled
 void write_segment(Statement& upsert, std::int64_t kb_id, const kb::KnowledgeBase& kb, std::size_t id) {
     const auto& record = kb.record(id);
     upsert.reset();
-    upsert.bind(1, kb_id)
-        .bind(2, static_cast<std::int64_t>(id))
-        .bind(3, record.cum_reward)
-        .bind(4, static_cast<std::int64_t>(record.count))
-        .bind(5, static_cast<std::int64_t>(record.first.source))
-        .bind(6, record.first.generation)
-        .bind(7, static_cast<std::int64_t>(record.last.source))
-        .bind(8, record.last.generation)
-        .bind_blob(9, as_bytes(kb.segment(id)))
+    upsert.bind(":kb_id", kb_id)
+        .bind(":id", static_cast<std::int64_t>(id))
+        .bind(":cum_reward", record.cum_reward)
+        .bind(":count", static_cast<std::int64_t>(record.count))
+        .bind(":first_source", static_cast<std::int64_t>(record.first.source))
+        .bind(":first_generation", record.first.generation)
+        .bind(":last_source", static_cast<std::int64_t>(record.last.source))
+        .bind(":last_generation", record.last.generation)
+        .bind_blob(":segment_values", as_bytes(kb.segment(id)))
         .run();
 }
 
@@ -59,17 +59,15 @@ std::int64_t insert_kb(Connection& connection, const std::string& name, const kb
                        std::optional<std::uint64_t> randomized_seed) {
     const auto& params = kb.params();
     auto insert = connection.prepare(sql("kb/insert_kb.sql"));
-    insert.bind(1, name)
-        .bind(2, static_cast<std::int64_t>(params.segment_width))
-        .bind(3, static_cast<std::int64_t>(params.channels))
-        .bind(4, params.delta)
-        .bind(5, to_string(params.match));
-    if (randomized_seed) {
-        insert.bind(6, static_cast<std::int64_t>(*randomized_seed));
-    } else {
-        insert.bind_null(6);
-    }
-    insert.run();
+    std::optional<std::int64_t> seed;
+    if (randomized_seed) seed = static_cast<std::int64_t>(*randomized_seed);
+    insert.bind(":name", name)
+        .bind(":segment_width", static_cast<std::int64_t>(params.segment_width))
+        .bind(":channels", static_cast<std::int64_t>(params.channels))
+        .bind(":delta", params.delta)
+        .bind(":match", to_string(params.match))
+        .bind(":randomized_seed", seed)
+        .run();
     const std::int64_t kb_id = connection.last_insert_rowid();
     update_kb(connection, kb_id, kb, 0, 0);
     return kb_id;
@@ -89,20 +87,26 @@ void update_kb(Connection& connection, std::int64_t kb_id, const kb::KnowledgeBa
 std::vector<KbSummary> list_kbs(Connection& connection) {
     std::vector<KbSummary> list;
     auto select = connection.prepare(sql("kb/select_kbs.sql"));
+    const int id = select.column("id"), name = select.column("name"), width = select.column("segment_width"),
+              channels = select.column("channels"), delta = select.column("delta"),
+              match = select.column("match"), seed = select.column("randomized_seed");
     while (select.step()) {
         KbSummary summary;
-        summary.id = select.column_int(0);
-        summary.name = select.column_text(1);
-        summary.params.segment_width = static_cast<std::size_t>(select.column_int(2));
-        summary.params.channels = static_cast<std::size_t>(select.column_int(3));
-        summary.params.delta = select.column_double(4);
-        summary.params.match = parse_match(select.column_text(5), connection.name() + ": kb.match");
-        if (!select.is_null(6)) summary.randomized_seed = static_cast<std::uint64_t>(select.column_int(6));
+        summary.id = select.column_int(id);
+        summary.name = select.column_text(name);
+        summary.params.segment_width = static_cast<std::size_t>(select.column_int(width));
+        summary.params.channels = static_cast<std::size_t>(select.column_int(channels));
+        summary.params.delta = select.column_double(delta);
+        summary.params.match = parse_match(select.column_text(match), connection.name() + ": kb.match");
+        if (!select.is_null(seed))
+            summary.randomized_seed = static_cast<std::uint64_t>(select.column_int(seed));
         list.push_back(summary);
     }
+    auto count = connection.prepare(sql("kb/count_segments.sql"));
     for (auto& summary : list) {
-        summary.segments = connection.query_int(concat("SELECT count(*) FROM kb_segment WHERE kb_id = ", summary.id))
-                               .value_or(0);
+        count.reset();
+        count.bind(":kb_id", summary.id);
+        summary.segments = count.step() ? count.column_int(0) : 0;
     }
     return list;
 }
@@ -128,7 +132,7 @@ StoredKb load_kb(Connection& connection, const std::string& name) {
     // sources
     std::vector<kb::Source> sources;
     auto select_sources = connection.prepare(sql("kb/select_sources.sql"));
-    select_sources.bind(1, chosen->id);
+    select_sources.bind(":kb_id", chosen->id);
     while (select_sources.step()) {
         kb::Source source;
         source.run = select_sources.column_text(1);
@@ -144,7 +148,7 @@ StoredKb load_kb(Connection& connection, const std::string& name) {
     values.reserve(static_cast<std::size_t>(chosen->segments) * dim);
     records.reserve(static_cast<std::size_t>(chosen->segments));
     auto select = connection.prepare(sql("kb/select_segments.sql"));
-    select.bind(1, chosen->id);
+    select.bind(":kb_id", chosen->id);
     while (select.step()) {
         const auto id = select.column_int(0);
         if (id != static_cast<std::int64_t>(records.size())) {

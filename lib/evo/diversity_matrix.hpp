@@ -10,7 +10,7 @@
 
 namespace stepstone::evo {
 
-/// The behavioural diversity objective of collectball (ORIGINAL.md 5.4): the
+/// The behavioural diversity objective of collectball (docs/original.md: diversity): the
 /// full symmetric matrix of edit distances between the trajectories of the
 /// mixed population, and each individual's sum of distances to all others.
 ///

@@ -8,7 +8,7 @@
 namespace stepstone::evo {
 
 /// One sample of a discretised trajectory: a cell of the behaviour grid
-/// (collectball: 12 x 12 cells of 50 x 50 units, ORIGINAL.md 5.2).
+/// (collectball: 12 x 12 cells of 50 x 50 units, docs/original.md: diversity).
 struct GridCell {
     std::int16_t x = 0;
     std::int16_t y = 0;
@@ -22,7 +22,7 @@ using Trajectory = std::vector<GridCell>;
 /// Divisor of the Manhattan distance in the substitution cost (collectball's NB_TILES).
 inline constexpr float kGridTiles = 12.0f;
 
-/// Substitution cost of collectball's edit distance (ORIGINAL.md 5.3):
+/// Substitution cost of collectball's edit distance (docs/original.md: diversity):
 /// (|dx| + |dy|) / 12 in float, 0 for equal cells.
 inline float substitution_cost(GridCell a, GridCell b) {
     const int dx = a.x > b.x ? a.x - b.x : b.x - a.x;
@@ -30,7 +30,7 @@ inline float substitution_cost(GridCell a, GridCell b) {
     return (static_cast<float>(dx) + static_cast<float>(dy)) / kGridTiles;
 }
 
-/// collectball's edit_dist (ORIGINAL.md 5.3), an optimal-string-alignment
+/// collectball's edit_dist (docs/original.md: diversity), an optimal-string-alignment
 /// distance: insertion and deletion cost 1, substitution substitution_cost,
 /// and the transposition of an adjacent swapped pair costs D[i-2][j-2] plus
 /// the substitution cost of the current pair. Computed in float with three

@@ -44,7 +44,7 @@ concept Nsga2Problem = requires(const P& problem, typename P::Genome& genome, Rn
 };
 
 /// A sequential reference driver of sferes2's NSGA-II as collectball configures
-/// it (ORIGINAL.md 7), built from the public steps (select_parents, survivors).
+/// it (docs/original.md: NSGA-II), built from the public steps (select_parents, survivors).
 /// Streams: genome k of generation 0 draws from (seed, 0, k, initial_genome);
 /// in generation g >= 1 the mating selection draws from (seed, g, 0,
 /// selection) and child k from (seed, g, k, mutation) (child 2k's stream also
@@ -81,7 +81,7 @@ public:
         return next;
     }
 
-    /// One epoch (ORIGINAL.md 7.2): mating selection, crossover if the
+    /// One epoch (docs/original.md: NSGA-II): mating selection, crossover if the
     /// problem has one, mutation, evaluation of the children, modifier on the
     /// parents + children, (mu + lambda) environmental selection.
     void epoch(Population<Genome>& population) const {

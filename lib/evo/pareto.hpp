@@ -11,7 +11,7 @@ namespace stepstone::evo {
 using Objectives = std::vector<std::vector<double>>;
 
 /// Crowding distance given to the boundary individuals of a front (sferes2
-/// crowd.hpp's `inf`, ORIGINAL.md 7.3).
+/// crowd.hpp's `inf`, docs/original.md: NSGA-II).
 inline constexpr double kBoundaryCrowding = 1e14;
 
 /// Pareto dominance for maximisation: a is >= b everywhere and > somewhere.
@@ -22,7 +22,7 @@ bool dominates(std::span<const double> a, std::span<const double> b);
 /// only by members of fronts < k. Within a front, indices are increasing.
 std::vector<std::vector<std::size_t>> non_dominated_fronts(const Objectives& objectives);
 
-/// Crowding distance of the members of one front (ORIGINAL.md 7.3, sferes2
+/// Crowding distance of the members of one front (docs/original.md: NSGA-II, sferes2
 /// crowd.hpp): fronts of 1 or 2 members are all kBoundaryCrowding; otherwise
 /// for each objective in turn, the front is sorted ascending (ties by index),
 /// both ends are set to kBoundaryCrowding and each interior member adds

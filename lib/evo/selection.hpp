@@ -9,13 +9,13 @@
 
 namespace stepstone::evo {
 
-/// sferes2's NSGA-II binary tournament (ORIGINAL.md 7.2): the one that
+/// sferes2's NSGA-II binary tournament (docs/original.md: NSGA-II): the one that
 /// dominates wins; otherwise the larger crowding distance; otherwise a coin
 /// flip from `rng`. Ranks are not compared. Returns a or b.
 std::size_t tournament(std::size_t a, std::size_t b, const Objectives& objectives,
                        std::span<const double> crowding, Rng& rng);
 
-/// Mating selection of one epoch (ORIGINAL.md 7.2): two random permutations
+/// Mating selection of one epoch (docs/original.md: NSGA-II): two random permutations
 /// a1, a2 of the parents; for every block of 4 positions i, the winners of
 /// (a1[i], a1[i+1]), (a1[i+2], a1[i+3]), (a2[i], a2[i+1]), (a2[i+2], a2[i+3]).
 /// Returns one parent index per child, in child order: children 2k and 2k+1
@@ -39,7 +39,7 @@ struct Survivors {
     std::vector<std::size_t> rank;
 };
 
-/// NSGA-II environmental selection (Deb et al. 2002; ORIGINAL.md 7.2 step 6):
+/// NSGA-II environmental selection (Deb et al. 2002; docs/original.md: NSGA-II):
 /// whole fronts are taken while their total stays below `count`; the first
 /// front that does not fit is sorted by crowding, descending (ties by index),
 /// and its best fill the rest. This is the (mu + lambda) replacement when

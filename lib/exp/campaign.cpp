@@ -44,7 +44,7 @@ CampaignIndex open_campaign(const CampaignOptions& options, const CampaignConfig
     }
     // a campaign killed in the middle of a write leaves a hot journal that only a writer can
     // roll back: open it for writing once before the read-only loads
-    db::open_database(campaign_path, db::OpenMode::read_write).query_int("SELECT COUNT(*) FROM campaign");
+    db::open_database(campaign_path, db::OpenMode::read_write).query_int(db::sql("campaign/count.sql"));
     auto index = load_campaign(options.dir);
     const std::string diff = first_difference(index.config, config.to_json());
     if (!diff.empty()) {
@@ -94,13 +94,13 @@ CampaignSummary run_campaign(const CampaignOptions& given) {
     // source runs, the KB step once they all finished, then target runs
     std::vector<std::size_t> sources, targets;
     for (std::size_t k = 0; k < runs.size(); ++k)
-        (runs[k].run.step == "source" ? sources : targets).push_back(k);
+        (runs[k].run.step == CampaignStep::source ? sources : targets).push_back(k);
     summary.failures = runner.execute(sources, summary);
     if (summary.failures.empty()) {
         if (config.needs_kb()) make_campaign_kbs(options.dir, config, connection, runs);
         summary.failures = runner.execute(targets, summary);
     }
-    for (const auto& state : runs) summary.finished += state.status == "finished" ? 1 : 0;
+    for (const auto& state : runs) summary.finished += state.status == RunStatus::finished ? 1 : 0;
     summary.wall_time = now_seconds() - started;
     progress.finish(concat("runs ", summary.finished, "/", summary.runs));
     return summary;

@@ -194,13 +194,13 @@ std::vector<PlannedRun> plan_runs(const CampaignConfig& config) {
     if (config.source) {
         for (std::uint64_t seed : config.source->seeds) {
             runs.push_back(
-                {"source", Treatment::none, seed, "source/" + seed_file(seed), config.source->generations});
+                {CampaignStep::source, Treatment::none, seed, "source/" + seed_file(seed), config.source->generations});
         }
     }
     // seed-major: an interrupted campaign leaves every treatment with as many finished runs
     for (std::uint64_t seed : config.target.seeds) {
         for (Treatment t : config.treatments) {
-            runs.push_back({"target", t, seed, concat("target/", to_string(t), "/", seed_file(seed)),
+            runs.push_back({CampaignStep::target, t, seed, concat("target/", to_string(t), "/", seed_file(seed)),
                             config.target.generations});
         }
     }

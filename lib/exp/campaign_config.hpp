@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "exp/evolve_config.hpp"
+#include "exp/run_status.hpp"
 #include "exp/treatment.hpp"
 
 namespace stepstone::exp {
@@ -64,7 +65,7 @@ struct CampaignConfig {
 
 /// One planned run.
 struct PlannedRun {
-    std::string step;  ///< "source" or "target"
+    CampaignStep step = CampaignStep::target;
     Treatment treatment = Treatment::none;
     std::uint64_t seed = 0;
     std::string file;  ///< relative to the campaign directory, e.g. "target/sum/seed-3.db"

@@ -6,7 +6,8 @@
 
 #include "core/error.hpp"
 #include "core/text.hpp"
-#include "exp/kb_tools.hpp"
+#include "exp/kb_files.hpp"
+#include "exp/run_store.hpp"
 
 namespace stepstone::exp {
 
@@ -61,7 +62,7 @@ void make_campaign_kbs(const fs::path& dir, const CampaignConfig& config, db::Co
     } else {
         std::vector<const RunState*> sources;
         for (const auto& state : runs) {
-            if (state.run.step == "source") sources.push_back(&state);
+            if (state.run.step == CampaignStep::source) sources.push_back(&state);
         }
         if (config.kb_from == KbFrom::best || sources.size() == 1) {
             const RunState* best = sources.front();

@@ -103,7 +103,7 @@ std::vector<std::string> Runner::execute(const std::vector<std::size_t>& indices
     for (std::size_t k : indices) {
         auto& state = runs_[k];
         const fs::path file = options_.dir / state.run.file;
-        if (state.status == "finished" && !fs::exists(file)) {
+        if (state.status == RunStatus::finished && !fs::exists(file)) {
             std::fprintf(stderr,
                          "campaign: %s is missing though campaign.db records it finished; running it again\n",
                          state.run.file.c_str());
@@ -125,7 +125,7 @@ std::vector<std::string> Runner::execute(const std::vector<std::size_t>& indices
             const std::size_t k = queue.front();
             queue.pop_front();
             executor_.start(launch_of(k, threads));
-            runs_[k].status = "running";
+            runs_[k].status = RunStatus::running;
             update_run_row(connection_, runs_[k], std::nullopt, 0.0, std::nullopt);
             active.push_back(Active{k, now_seconds()});
         }
@@ -152,7 +152,7 @@ std::optional<RunFileState> Runner::existing_state(std::size_t k) {
 
 void Runner::mark_finished(std::size_t k, const RunFileState& on_disk, double wall_time) {
     auto& state = runs_[k];
-    state.status = "finished";
+    state.status = RunStatus::finished;
     state.generations_done = on_disk.generations_done;
     state.best_reward = on_disk.best_reward;
     auto run_connection = db::open_database(options_.dir / state.run.file, db::OpenMode::read_only);
@@ -167,13 +167,13 @@ RunLaunch Runner::launch_of(std::size_t k, unsigned threads) const {
     RunLaunch launch;
     launch.index = k;
     launch.log = run_log_path(options_.dir, state.run);
-    launch.config = options_.dir / "config" / (state.run.step + ".json");
+    launch.config = options_.dir / "config" / concat(to_string(state.run.step), ".json");
     launch.db = file;
     launch.seed = state.run.seed;
     launch.generations = state.run.generations;
     launch.threads = threads;
     launch.resume = fs::exists(file);
-    if (state.run.step == "target" && needs_kb(state.run.treatment)) {
+    if (state.run.step == CampaignStep::target && needs_kb(state.run.treatment)) {
         launch.kb = options_.dir / (needs_randomized_kb(state.run.treatment) ? kRandomKbFile : kKbFile);
         launch.treatment = state.run.treatment;
     }
@@ -195,7 +195,7 @@ std::optional<std::string> Runner::finish(const Active& done, const RunEnd& end)
     }
     const std::string error =
         end.error.empty() ? last_line_of(run_log_path(options_.dir, state.run)) : end.error;
-    state.status = "failed";
+    state.status = RunStatus::failed;
     update_run_row(connection_, state, std::nullopt, wall, error);
     return concat(state.run.file, ": ", error);
 }
@@ -204,7 +204,7 @@ void Runner::report(const std::vector<Active>& active) {
     std::uint64_t done = 0;
     std::size_t finished = 0;
     for (auto& state : runs_) {
-        if (state.status == "running" && executor_.runs_here()) {
+        if (state.status == RunStatus::running && executor_.runs_here()) {
             try {
                 if (auto on_disk = read_run_file(options_.dir / state.run.file)) {
                     state.generations_done = on_disk->generations_done;
@@ -213,7 +213,7 @@ void Runner::report(const std::vector<Active>& active) {
                 // being created or busy: keep the last reading
             }
         }
-        if (state.status == "finished") ++finished;
+        if (state.status == RunStatus::finished) ++finished;
         done += static_cast<std::uint64_t>(std::max(0, state.generations_done + 1));
     }
     std::string status = concat("runs ", finished, "/", runs_.size());
@@ -221,7 +221,7 @@ void Runner::report(const std::vector<Active>& active) {
         const auto& state = runs_[run.index];
         status += concat(
             "  ",
-            state.run.step == "source" ? std::string("source") : std::string(to_string(state.run.treatment)),
+            std::string(state.run.step == CampaignStep::source ? to_string(state.run.step) : to_string(state.run.treatment)),
             "/", state.run.seed, " g", std::max(0, state.generations_done), "/", state.run.generations);
     }
     progress_.update(done, status);

@@ -31,8 +31,8 @@ RunCurve read_curve(const fs::path& dir, const PlannedRun& run) {
     curve.treatment = run.treatment;
     curve.seed = run.seed;
     curve.file = run.file;
-    auto rows = connection.prepare("SELECT generation, best_reward FROM generation WHERE run_id = ?1 ORDER BY generation");
-    rows.bind(1, record.id);
+    auto rows = connection.prepare(db::sql("run/select_best_rewards.sql"));
+    rows.bind(":run_id", record.id);
     double best = 0;
     while (rows.step()) {
         const auto g = rows.column_int(0);
@@ -71,8 +71,9 @@ CampaignStats campaign_stats(const fs::path& dir, std::optional<int> generation,
     CampaignStats stats;
     stats.dir = dir.string();
     stats.threshold = threshold;
-    for (const auto& run : index.runs) {
-        if (run.step != "target") continue;
+    for (const auto& indexed : index.runs) {
+        const PlannedRun& run = indexed.run;
+        if (run.step != CampaignStep::target) continue;
         if (!generation) generation = run.generations;
         if (available_only && !fs::exists(dir / run.file)) {
             stats.skipped.push_back(run.file);

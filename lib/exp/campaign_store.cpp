@@ -20,7 +20,7 @@ CampaignIndex load_campaign(const fs::path& dir) {
     }
     auto connection = db::open_database(path, db::OpenMode::read_only);
     CampaignIndex index;
-    auto config = connection.prepare("SELECT config FROM campaign WHERE id = 1");
+    auto config = connection.prepare(db::sql("campaign/select_config.sql"));
     if (!config.step()) throw DataError(concat(path.string(), ": holds no campaign"));
     try {
         index.config = nlohmann::json::parse(config.column_text(0));
@@ -31,13 +31,14 @@ CampaignIndex load_campaign(const fs::path& dir) {
     auto runs = connection.prepare(db::sql("campaign/select_runs.sql"));
     while (runs.step()) {
         PlannedRun run;
-        run.step = runs.column_text(1);
-        run.treatment = parse_treatment(runs.column_text(2), "campaign_run.treatment");
-        run.seed = static_cast<std::uint64_t>(runs.column_int(3));
-        run.file = runs.column_text(4);
-        run.generations = static_cast<int>(runs.column_int(5));
-        index.runs.push_back(run);
-        index.statuses.push_back(runs.column_text(6));
+        run.step =
+            parse_campaign_step(runs.column_text(runs.column("step")), path.string() + ": campaign_run.step");
+        run.treatment = parse_treatment(runs.column_text(runs.column("treatment")), "campaign_run.treatment");
+        run.seed = static_cast<std::uint64_t>(runs.column_int(runs.column("seed")));
+        run.file = runs.column_text(runs.column("file"));
+        run.generations = static_cast<int>(runs.column_int(runs.column("generations")));
+        index.runs.push_back({run, parse_run_status(runs.column_text(runs.column("status")),
+                                                    path.string() + ": campaign_run.status")});
     }
     return index;
 }
@@ -46,17 +47,19 @@ void create_campaign_db(const fs::path& path, const CampaignConfig& config,
                         const std::vector<PlannedRun>& plan) {
     db::OutputDatabase output(path, false);
     auto& connection = output.connection();
-    connection.prepare(db::sql("campaign/insert_campaign.sql")).bind(1, config.to_json().dump()).step();
+    connection.prepare(db::sql("campaign/insert_campaign.sql"))
+        .bind(":config", config.to_json().dump())
+        .step();
     {
         auto insert = connection.prepare(db::sql("campaign/insert_run.sql"));
         for (std::size_t k = 0; k < plan.size(); ++k) {
             insert.reset();
-            insert.bind(1, static_cast<std::int64_t>(k + 1))
-                .bind(2, plan[k].step)
-                .bind(3, to_string(plan[k].treatment))
-                .bind(4, static_cast<std::int64_t>(plan[k].seed))
-                .bind(5, plan[k].file)
-                .bind(6, plan[k].generations)
+            insert.bind(":id", static_cast<std::int64_t>(k + 1))
+                .bind(":step", to_string(plan[k].step))
+                .bind(":treatment", to_string(plan[k].treatment))
+                .bind(":seed", static_cast<std::int64_t>(plan[k].seed))
+                .bind(":file", plan[k].file)
+                .bind(":generations", plan[k].generations)
                 .step();
         }
     }  // the statement is finalized before the file is moved into place
@@ -67,9 +70,9 @@ std::vector<RunState> run_states(const CampaignIndex& index) {
     std::vector<RunState> runs;
     for (std::size_t k = 0; k < index.runs.size(); ++k) {
         RunState state;
-        state.run = index.runs[k];
+        state.run = index.runs[k].run;
         state.id = static_cast<std::int64_t>(k + 1);
-        state.status = index.statuses[k];
+        state.status = index.runs[k].status;
         runs.push_back(state);
     }
     return runs;
@@ -81,8 +84,8 @@ std::optional<RunFileState> read_run_file(const fs::path& path) {
     const RunRecord run = load_run(connection);
     RunFileState state;
     state.generations_done = run.generations_done;
-    state.finished = run.status == "finished";
-    auto best = connection.prepare("SELECT max(best_reward) FROM generation");
+    state.finished = run.status == RunStatus::finished;
+    auto best = connection.prepare(db::sql("run/max_best_reward.sql"));
     if (best.step() && best.column_type(0) != db::Statement::Type::null)
         state.best_reward = best.column_double(0);
     return state;
@@ -92,13 +95,13 @@ void update_run_row(db::Connection& connection, const RunState& state,
                     const std::optional<std::string>& digest, double wall_time,
                     const std::optional<std::string>& error) {
     auto update = connection.prepare(db::sql("campaign/update_run.sql"));
-    update.bind(1, state.status)
-        .bind(2, state.generations_done)
-        .bind(3, state.best_reward)
-        .bind(4, digest)
-        .bind(5, wall_time)
-        .bind(6, error)
-        .bind(7, state.id);
+    update.bind(":status", to_string(state.status))
+        .bind(":generations_done", state.generations_done)
+        .bind(":best_reward", state.best_reward)
+        .bind(":digest", digest)
+        .bind(":wall_time", wall_time)
+        .bind(":error", error)
+        .bind(":id", state.id);
     update.step();
 }
 
@@ -107,11 +110,11 @@ void record_kb(db::Connection& connection, const std::string& name, const std::s
     auto kb_connection = db::open_database(path, db::OpenMode::read_only);
     const auto stored = db::load_kb(kb_connection);
     auto upsert = connection.prepare(db::sql("campaign/upsert_kb.sql"));
-    upsert.bind(1, name)
-        .bind(2, file)
-        .bind(3, made_from)
-        .bind(4, static_cast<std::int64_t>(stored.kb.size()))
-        .bind(5, db::kb_digest(stored.kb, stored.randomized_seed));
+    upsert.bind(":name", name)
+        .bind(":file", file)
+        .bind(":made_from", made_from)
+        .bind(":segments", static_cast<std::int64_t>(stored.kb.size()))
+        .bind(":digest", db::kb_digest(stored.kb, stored.randomized_seed));
     upsert.step();
 }
 

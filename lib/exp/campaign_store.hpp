@@ -22,11 +22,16 @@ inline constexpr const char* kCampaignFile = "campaign.db";
 inline constexpr const char* kKbFile = "kb/kb.db";
 inline constexpr const char* kRandomKbFile = "kb/kb-rand.db";
 
+/// A run as campaign.db lists it: its plan and where it stands.
+struct IndexedRun {
+    PlannedRun run;
+    RunStatus status = RunStatus::pending;
+};
+
 /// Where a campaign's runs and KBs are, read from campaign.db.
 struct CampaignIndex {
     nlohmann::json config;
-    std::vector<PlannedRun> runs;
-    std::vector<std::string> statuses;  ///< per run: pending | running | finished | failed
+    std::vector<IndexedRun> runs;  ///< in plan order
 };
 /// Reads campaign.db of `dir`; throws DatabaseError / DataError naming the file.
 CampaignIndex load_campaign(const std::filesystem::path& dir);
@@ -40,7 +45,7 @@ void create_campaign_db(const std::filesystem::path& path, const CampaignConfig&
 struct RunState {
     PlannedRun run;
     std::int64_t id = 0;
-    std::string status = "pending";
+    RunStatus status = RunStatus::pending;
     int generations_done = -1;
     std::optional<double> best_reward;
 };

@@ -19,17 +19,11 @@
 #include "evo/selection.hpp"
 #include "kb/segments.hpp"
 #include "nn/mutation.hpp"
+#include "stats/summary.hpp"
 
 namespace stepstone::exp {
 
 namespace {
-
-double median(std::vector<double> values) {
-    if (values.empty()) return 0.0;
-    std::sort(values.begin(), values.end());
-    const std::size_t n = values.size();
-    return n % 2 == 1 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
-}
 
 nlohmann::json cells_to_json(const evo::Trajectory& cells) {
     auto out = nlohmann::json::array();
@@ -104,7 +98,7 @@ GenerationWrite Evolution::epoch() {
     ++generation_;
     const auto g = static_cast<std::uint64_t>(generation_);
 
-    // mating selection on the current parents (ORIGINAL.md 7.2)
+    // mating selection on the current parents (docs/original.md: NSGA-II)
     evo::Objectives objectives;
     std::vector<double> crowding;
     for (const auto& m : population_) {
@@ -199,7 +193,7 @@ std::vector<Evaluation> Evolution::evaluate(const std::vector<nn::Genome>& genom
 }
 
 GenerationWrite Evolution::select(std::vector<Member> mixed, std::size_t first_new, double started) {
-    // diversity of every member of the mixed population (ORIGINAL.md 5.4),
+    // diversity of every member of the mixed population (docs/original.md: diversity),
     // reusing the distances between members already seen
     std::vector<std::uint64_t> ids;
     std::vector<evo::Trajectory> trajectories;
@@ -278,7 +272,7 @@ GenerationWrite Evolution::select(std::vector<Member> mixed, std::size_t first_n
     for (const auto& m : population_) rewards.push_back(m.reward);
     stats.best_reward = *std::max_element(rewards.begin(), rewards.end());
     stats.mean_reward = std::accumulate(rewards.begin(), rewards.end(), 0.0) / static_cast<double>(rewards.size());
-    stats.median_reward = median(rewards);
+    stats.median_reward = stats::median(rewards);
     stats.wall_time = now_seconds() - started;
     stats.time_simulation = time_simulation_;
     stats.time_kb = time_kb_;
@@ -463,7 +457,8 @@ EvolveSummary run_evolve(const EvolveOptions& options) {
             run.config = config.to_json();
             run.generations = config.ea.generations;
             insert_run(output.connection(), run, full_version());
-            if (config.kb) db::insert_kb(output.connection(), "run", kb::KnowledgeBase(kb_params(*config.kb)));
+            if (config.kb)
+                db::insert_kb(output.connection(), kRunKbName, kb::KnowledgeBase(kb_params(*config.kb)));
             output.commit();
         }
         return db::open_database(options.db_path, db::OpenMode::read_write);
@@ -487,7 +482,7 @@ EvolveSummary run_evolve(const EvolveOptions& options) {
     if (auto state = load_checkpoint(connection, run.id)) evolution.restore(*state);
     if (config.kb) {
         // the KB was written in the same transactions as the checkpoint, so the two agree
-        auto stored = db::load_kb(connection, "run");
+        auto stored = db::load_kb(connection, kRunKbName);
         evolution.attach_kb(std::move(stored.kb), stored.id, concat("seed-", seed));
     }
     if (shaping) evolution.attach_shaping(std::move(*shaping), config.treatment());
@@ -503,7 +498,7 @@ EvolveSummary run_evolve(const EvolveOptions& options) {
     const int target = config.ea.generations;
     summary.was_finished = options.resume && evolution.generation() >= target;
     run.generations = target;
-    run.status = "running";
+    run.status = RunStatus::running;
 
     Progress progress("generation", static_cast<std::uint64_t>(target), options.progress);
     const double started = now_seconds();
@@ -538,7 +533,7 @@ EvolveSummary run_evolve(const EvolveOptions& options) {
                       elapsed > 0 ? static_cast<double>(evaluations_here) / elapsed : 0.0);
         progress.update(static_cast<std::uint64_t>(evolution.generation()), status);
     }
-    run.status = "finished";
+    run.status = RunStatus::finished;
     update_run(connection, run);
     db::finish_writing(connection);
     if (!summary.was_finished) progress.finish();

@@ -53,7 +53,7 @@ public:
 double shaped_r_max(const kb::KnowledgeBase& kb, std::span<const float> behaviour);
 
 /// The source-task evolution of the paper (NSGA-II on task reward and
-/// behavioural diversity, ORIGINAL.md 5-7), one generation at a time. Each
+/// behavioural diversity; docs/original.md), one generation at a time. Each
 /// generation returns what it writes to the run file; the state between
 /// generations is plain data (checkpoint()), and every random draw comes from
 /// the stream (seed, generation, individual, purpose), so a run restored from

@@ -3,12 +3,12 @@
 #include <cstdint>
 #include <filesystem>
 #include <limits>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 
-#include <nlohmann/json.hpp>
-
 #include "exp/treatment.hpp"
+#include "kb/knowledge_base.hpp"
 #include "nn/dnn_config.hpp"
 #include "sim/task.hpp"
 
@@ -17,7 +17,7 @@ namespace stepstone::exp {
 /// The largest seed a config accepts (seeds are stored as SQLite integers).
 inline constexpr std::int64_t kMaxSeed = std::numeric_limits<std::int64_t>::max();
 
-/// NSGA-II settings (ORIGINAL.md 7). Defaults are the paper's.
+/// NSGA-II settings (docs/original.md: NSGA-II). Defaults are the paper's.
 struct EaConfig {
     /// mu = lambda; a positive multiple of 4 (the tournament works in blocks of 4).
     int population_size = 200;
@@ -32,7 +32,7 @@ struct EaConfig {
 /// The knowledge base a run builds from its own policies (the paper's
 /// section II.B). Defaults are the paper's.
 struct KbConfig {
-    int segment_width = 20;        ///< time steps per segment
+    int segment_width = static_cast<int>(kb::kDefaultSegmentWidth);  ///< time steps per segment
     double delta = 1.83;           ///< a segment closer than delta to a KB segment credits it
     int period = 200;              ///< observe every `period` generations (1 = every generation)
     std::string match = "within_delta";  ///< lookup rule: within_delta | nearest

@@ -43,7 +43,7 @@ std::size_t write_file_rows(const fs::path& file, ExportWhat what, const std::ve
 // task, treatment and seed of a run file (its one run row)
 std::vector<std::string> run_columns(const fs::path& file) {
     auto connection = db::open_database(file, db::OpenMode::read_only);
-    auto run = connection.prepare("SELECT task, treatment, seed FROM run");
+    auto run = connection.prepare(db::sql("export/run_columns.sql"));
     if (!run.step()) throw DataError(concat(file.string(), ": holds no run (is it a knowledge-base file?)"));
     return {run.column_text(0), run.column_text(1), std::to_string(run.column_int(2))};
 }
@@ -68,7 +68,7 @@ std::size_t export_csv(const fs::path& input, ExportWhat what, std::ostream& out
         const fs::path campaign = input / "campaign.db";
         load_campaign(input);  // a clear error when this is no campaign
         auto connection = db::open_database(campaign, db::OpenMode::read_only);
-        auto files = connection.prepare("SELECT file FROM campaign_kb ORDER BY name");
+        auto files = connection.prepare(db::sql("export/campaign_kb_files.sql"));
         std::vector<std::string> names;
         while (files.step()) names.push_back(files.column_text(0));
         for (const auto& name : names) {
@@ -77,11 +77,12 @@ std::size_t export_csv(const fs::path& input, ExportWhat what, std::ostream& out
     } else {
         const auto index = load_campaign(input);
         for (std::size_t k = 0; k < index.runs.size(); ++k) {
-            const auto& run = index.runs[k];
+            const auto& run = index.runs[k].run;
             const fs::path file = input / run.file;
-            if (index.statuses[k] == "pending" && !fs::exists(file)) continue;
+            if (index.runs[k].status == RunStatus::pending && !fs::exists(file)) continue;
             rows += write_file_rows(file, what, {"task", "treatment", "seed"},
-                                    {run.step, std::string(to_string(run.treatment)), std::to_string(run.seed)},
+                                    {std::string(to_string(run.step)), std::string(to_string(run.treatment)),
+                                     std::to_string(run.seed)},
                                     header_done, out);
         }
     }

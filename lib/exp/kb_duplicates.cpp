@@ -38,9 +38,8 @@ void refuse_duplicate_kbs(std::span<const fs::path> inputs, const std::vector<db
                 }
             }
             if (!why.empty()) {
-                throw ConfigError(concat("cannot merge ", display(inputs[j]), " with ", display(inputs[i]), ": ",
-                                         why, ", so its policies would count twice (use --allow-duplicates to merge "
-                                              "anyway)"));
+                throw DuplicateKbs(concat("cannot merge ", display(inputs[j]), " with ", display(inputs[i]),
+                                          ": ", why, ", so its policies would count twice"));
             }
         }
     }

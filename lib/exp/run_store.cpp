@@ -11,24 +11,24 @@ namespace stepstone::exp {
 namespace {
 
 void bind_progress(db::Statement& update, const RunRecord& run) {
-    update.bind(update.parameter(":generations_done"), run.generations_done)
-        .bind(update.parameter(":evaluations"), run.evaluations)
-        .bind(update.parameter(":nan_outputs"), run.nan_outputs)
-        .bind(update.parameter(":status"), run.status)
-        .bind(update.parameter(":generations"), run.generations)
-        .bind(update.parameter(":run_id"), run.id);
+    update.bind(":generations_done", run.generations_done)
+        .bind(":evaluations", run.evaluations)
+        .bind(":nan_outputs", run.nan_outputs)
+        .bind(":status", to_string(run.status))
+        .bind(":generations", run.generations)
+        .bind(":run_id", run.id);
 }
 
 }  // namespace
 
 std::int64_t insert_run(db::Connection& connection, const RunRecord& run, const std::string& program_version) {
     auto insert = connection.prepare(db::sql("run/insert_run.sql"));
-    insert.bind(insert.parameter(":task"), run.task)
-        .bind(insert.parameter(":treatment"), run.treatment)
-        .bind(insert.parameter(":seed"), run.seed)
-        .bind(insert.parameter(":config"), run.config.dump())
-        .bind(insert.parameter(":generations"), run.generations)
-        .bind(insert.parameter(":program_version"), program_version)
+    insert.bind(":task", run.task)
+        .bind(":treatment", run.treatment)
+        .bind(":seed", run.seed)
+        .bind(":config", run.config.dump())
+        .bind(":generations", run.generations)
+        .bind(":program_version", program_version)
         .run();
     return connection.last_insert_rowid();
 }
@@ -37,20 +37,21 @@ RunRecord load_run(db::Connection& connection) {
     auto select = connection.prepare(db::sql("run/select_run.sql"));
     if (!select.step()) throw DatabaseError(concat(connection.name(), ": holds no run"));
     RunRecord run;
-    run.id = select.column_int(0);
-    run.task = select.column_text(1);
-    run.treatment = select.column_text(2);
-    run.seed = select.column_int(3);
+    run.id = select.column_int(select.column("id"));
+    run.task = select.column_text(select.column("task"));
+    run.treatment = select.column_text(select.column("treatment"));
+    run.seed = select.column_int(select.column("seed"));
     try {
-        run.config = nlohmann::json::parse(select.column_text(4));
+        run.config = nlohmann::json::parse(select.column_text(select.column("config")));
     } catch (const nlohmann::json::exception&) {
         throw DatabaseError(concat(connection.name(), ": run ", run.id, " has an unreadable config"));
     }
-    run.status = select.column_text(5);
-    run.generations = static_cast<int>(select.column_int(6));
-    run.generations_done = static_cast<int>(select.column_int(7));
-    run.evaluations = select.column_int(8);
-    run.nan_outputs = select.column_int(9);
+    run.status =
+        parse_run_status(select.column_text(select.column("status")), connection.name() + ": run.status");
+    run.generations = static_cast<int>(select.column_int(select.column("generations")));
+    run.generations_done = static_cast<int>(select.column_int(select.column("generations_done")));
+    run.evaluations = select.column_int(select.column("evaluations"));
+    run.nan_outputs = select.column_int(select.column("nan_outputs"));
     if (select.step()) throw DatabaseError(concat(connection.name(), ": holds more than one run"));
     return run;
 }
@@ -84,7 +85,10 @@ void write_generation(db::Connection& connection, RunRecord& run, const Generati
     auto genome = connection.prepare(db::sql("run/insert_genome.sql"));
     for (const auto& row : write.genomes) {
         genome.reset();
-        genome.bind(1, run.id).bind(2, row.individual_id).bind(3, row.genome_json).run();
+        genome.bind(":run_id", run.id)
+            .bind(":individual_id", row.individual_id)
+            .bind(":genome", row.genome_json)
+            .run();
     }
 
     // the knowledge base, when this generation observed into it
@@ -92,26 +96,29 @@ void write_generation(db::Connection& connection, RunRecord& run, const Generati
 
     // the state to resume from, then the counters
     auto checkpoint = connection.prepare(db::sql("run/upsert_checkpoint.sql"));
-    checkpoint.bind(1, run.id).bind(2, s.generation).bind(3, write.checkpoint.dump()).run();
+    checkpoint.bind(":run_id", run.id)
+        .bind(":generation", s.generation)
+        .bind(":state", write.checkpoint.dump())
+        .run();
 
     // statistics last, so they can hold the time the other writes took
     const double time_database = now_seconds() - started;
     auto generation = connection.prepare(db::sql("run/insert_generation.sql"));
-    generation.bind(generation.parameter(":run_id"), run.id)
-        .bind(generation.parameter(":generation"), s.generation)
-        .bind(generation.parameter(":best_reward"), s.best_reward)
-        .bind(generation.parameter(":mean_reward"), s.mean_reward)
-        .bind(generation.parameter(":median_reward"), s.median_reward)
-        .bind(generation.parameter(":front_sizes"), nlohmann::json(s.front_sizes).dump())
-        .bind(generation.parameter(":diversity_min"), s.diversity_min)
-        .bind(generation.parameter(":diversity_max"), s.diversity_max)
-        .bind(generation.parameter(":evaluations"), s.evaluations)
-        .bind(generation.parameter(":wall_time"), s.wall_time + time_database)
-        .bind(generation.parameter(":time_simulation"), s.time_simulation)
-        .bind(generation.parameter(":time_kb"), s.time_kb)
-        .bind(generation.parameter(":time_diversity"), s.time_diversity)
-        .bind(generation.parameter(":time_selection"), s.time_selection)
-        .bind(generation.parameter(":time_database"), time_database)
+    generation.bind(":run_id", run.id)
+        .bind(":generation", s.generation)
+        .bind(":best_reward", s.best_reward)
+        .bind(":mean_reward", s.mean_reward)
+        .bind(":median_reward", s.median_reward)
+        .bind(":front_sizes", nlohmann::json(s.front_sizes).dump())
+        .bind(":diversity_min", s.diversity_min)
+        .bind(":diversity_max", s.diversity_max)
+        .bind(":evaluations", s.evaluations)
+        .bind(":wall_time", s.wall_time + time_database)
+        .bind(":time_simulation", s.time_simulation)
+        .bind(":time_kb", s.time_kb)
+        .bind(":time_diversity", s.time_diversity)
+        .bind(":time_selection", s.time_selection)
+        .bind(":time_database", time_database)
         .run();
 
     RunRecord updated = run;
@@ -134,7 +141,7 @@ void update_run(db::Connection& connection, const RunRecord& run) {
 
 std::optional<nlohmann::json> load_checkpoint(db::Connection& connection, std::int64_t run_id) {
     auto select = connection.prepare(db::sql("run/select_checkpoint.sql"));
-    select.bind(1, run_id);
+    select.bind(":run_id", run_id);
     if (!select.step()) return std::nullopt;
     try {
         return nlohmann::json::parse(select.column_text(1));
@@ -145,7 +152,7 @@ std::optional<nlohmann::json> load_checkpoint(db::Connection& connection, std::i
 
 StoredGenome load_genome(db::Connection& connection, std::int64_t run_id, std::int64_t individual_id) {
     auto select = connection.prepare(db::sql("run/select_genome.sql"));
-    select.bind(1, run_id).bind(2, individual_id);
+    select.bind(":run_id", run_id).bind(":individual_id", individual_id);
     if (!select.step()) {
         throw DataError(concat(connection.name(), ": individual ", individual_id,
                                " has no stored genome (stored: first fronts and best of each generation; "
@@ -164,9 +171,17 @@ StoredGenome load_genome(db::Connection& connection, std::int64_t run_id, std::i
     return stored;
 }
 
+std::vector<std::int64_t> stored_individuals(db::Connection& connection, std::int64_t run_id) {
+    auto select = connection.prepare(db::sql("run/select_genome_ids.sql"));
+    select.bind(":run_id", run_id);
+    std::vector<std::int64_t> ids;
+    while (select.step()) ids.push_back(select.column_int(0));
+    return ids;
+}
+
 StoredGenome load_best_genome(db::Connection& connection, std::int64_t run_id) {
     auto select = connection.prepare(db::sql("run/select_best_genome.sql"));
-    select.bind(1, run_id);
+    select.bind(":run_id", run_id);
     if (!select.step()) throw DataError(concat(connection.name(), ": run ", run_id, " has no stored genome"));
     return load_genome(connection, run_id, select.column_int(0));
 }

@@ -1,16 +1,19 @@
 #pragma once
 
 #include <cstdint>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
 #include "db/connection.hpp"
+#include "exp/run_status.hpp"
 #include "kb/knowledge_base.hpp"
 
 namespace stepstone::exp {
+
+/// The name evolve gives the knowledge base it stores in a run file.
+inline constexpr const char* kRunKbName = "run";
 
 /// The `run` row of a run file.
 struct RunRecord {
@@ -19,7 +22,7 @@ struct RunRecord {
     std::string treatment = "none";
     std::int64_t seed = 0;
     nlohmann::json config;          ///< effective config, seed included
-    std::string status = "running"; ///< running | finished
+    RunStatus status = RunStatus::running;  ///< running | finished
     int generations = 0;            ///< generations asked for
     int generations_done = -1;      ///< last committed generation (-1: none yet)
     std::int64_t evaluations = 0;
@@ -104,6 +107,8 @@ struct StoredGenome {
 
 /// The genome of `individual_id`; throws DataError if it was not stored.
 StoredGenome load_genome(db::Connection& connection, std::int64_t run_id, std::int64_t individual_id);
+/// The ids of the run's stored genomes, in increasing order.
+std::vector<std::int64_t> stored_individuals(db::Connection& connection, std::int64_t run_id);
 /// The stored genome with the highest task reward (lowest id on ties).
 StoredGenome load_best_genome(db::Connection& connection, std::int64_t run_id);
 

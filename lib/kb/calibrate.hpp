@@ -9,6 +9,9 @@
 
 namespace stepstone::kb {
 
+/// The "20 closest" of the paper's delta rule.
+inline constexpr std::size_t kDefaultNeighbours = 20;
+
 /// The paper's delta rule (section III.E: "the mean distance between the 20
 /// closest behaviors during 4000 time steps of a successful behavior").
 ///
@@ -17,7 +20,7 @@ namespace stepstone::kb {
 /// of that value over all segments. If the policy has n <= neighbours
 /// segments, each uses its n - 1 others. Throws DataError if the policy has
 /// fewer than 2 segments, neighbours is 0, or a value is not finite.
-double calibrate_delta(Segments policy, std::size_t neighbours = 20);
+double calibrate_delta(Segments policy, std::size_t neighbours = kDefaultNeighbours);
 
 /// KB size obtained with one delta.
 struct DeltaSize {

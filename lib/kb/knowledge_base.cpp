@@ -147,9 +147,9 @@ ObserveResult KnowledgeBase::observe(Segments segments, double reward, Origin or
     const std::size_t dim = params_.dim();
     const std::size_t before = size();
     if (segments.size() > 0) index_.probe(segments.values.data(), params_.delta);
-    const bool batched = index_.brute_force() && segments.size() > 1;
+    const bool snapshot_first = index_.brute_force() && segments.size() > 1;
     std::vector<std::optional<Neighbour>> snapshot;
-    if (batched) {
+    if (snapshot_first) {
         snapshot.resize(segments.size());
         index_.nearest_within_batch_adaptive(values_, segments.values.data(), segments.size(), params_.delta,
                                              snapshot);
@@ -160,7 +160,7 @@ ObserveResult KnowledgeBase::observe(Segments segments, double reward, Origin or
     for (std::size_t i = 0; i < segments.size(); ++i) {
         const float* s = segments.values.data() + i * dim;
         std::optional<Neighbour> near;
-        if (batched) {
+        if (snapshot_first) {
             near = snapshot[i];
             for (std::size_t id = before; id < size(); ++id) {
                 const double bound = near ? near->squared_distance : delta_sq;
@@ -202,14 +202,14 @@ SegmentMatch KnowledgeBase::match_of(const float* segment) const {
     return SegmentMatch{near->id, std::sqrt(near->squared_distance), records_[near->id].average()};
 }
 
-bool KnowledgeBase::batched(Segments segments) const {
+bool KnowledgeBase::batch_search(Segments segments) const {
     return params_.match == Match::within_delta && segments.size() > 1;
 }
 
 std::vector<SegmentMatch> KnowledgeBase::matches_of(Segments segments) const {
     std::vector<SegmentMatch> out;
     out.reserve(segments.size());
-    if (batched(segments)) {
+    if (batch_search(segments)) {
         // the whole policy at once: one pass over the KB (brute force) or
         // interleaved tree walks
         std::vector<std::optional<Neighbour>> near(segments.size());
@@ -228,7 +228,7 @@ Lookup KnowledgeBase::lookup(Segments segments) const {
     // a whole policy within delta goes to the index's batch search, which
     // refuses non-finite values itself (from the block means it computes of
     // every query anyway) with the same message: the values are read once
-    check_segments(segments, batched(segments) ? Finite::index_checks : Finite::check);
+    check_segments(segments, batch_search(segments) ? Finite::index_checks : Finite::check);
     Lookup result;
     result.segments = matches_of(segments);
     // a segment without a match contributes 0, so r_max is the largest of

@@ -19,9 +19,12 @@ enum class Match {
     nearest,       ///< the nearest KB segment whatever its distance
 };
 
+/// The paper's segment width: 20 time steps per segment.
+inline constexpr std::size_t kDefaultSegmentWidth = 20;
+
 /// Shape and rule of a knowledge base (the paper: width 20, 15 channels, delta 1.83).
 struct KbParams {
-    std::size_t segment_width = 20;  ///< time steps per segment (rows of the behaviour)
+    std::size_t segment_width = kDefaultSegmentWidth;  ///< time steps per segment (rows of the behaviour)
     std::size_t channels = 15;       ///< values per time step (sensors + effectors)
     double delta = 1.83;             ///< Euclidean threshold: "closer than delta" is dist < delta
     Match match = Match::within_delta;  ///< lookup rule (observe always uses delta)
@@ -188,7 +191,7 @@ private:
     SegmentMatch match_of(const float* segment) const;
     // true when matches_of() sends the policy to the index's batch search
     // (within delta, more than one segment), which checks finiteness itself
-    bool batched(Segments segments) const;
+    bool batch_search(Segments segments) const;
     std::vector<SegmentMatch> matches_of(Segments segments) const;
     // merge() without the parameter check
     void absorb(const KnowledgeBase& other);

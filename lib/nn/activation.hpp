@@ -33,7 +33,7 @@ inline float fast_exp(float x) {
     return std::bit_cast<float>(std::bit_cast<std::int32_t>(e) + exponent * (1 << 23));
 }
 
-/// nn2's AfSigmoidBias (ORIGINAL.md 6.3) with the bias already scaled:
+/// nn2's AfSigmoidBias (docs/original.md: network) with the bias already scaled:
 /// 1 / (1 + exp(scaled_bias - sum)) where scaled_bias = bias_scale * b.
 inline float sigmoid(float scaled_bias, float sum) { return 1.0f / (1.0f + fast_exp(scaled_bias - sum)); }
 

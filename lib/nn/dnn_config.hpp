@@ -5,7 +5,7 @@
 namespace stepstone::nn {
 
 /// Parameters of the DNN genome, its development and its mutation. The
-/// defaults are those of collectball + nn2 (ORIGINAL.md 6): a 12 -> 3
+/// defaults are those of collectball + nn2 (docs/original.md: network): a 12 -> 3
 /// perceptron, weights and biases in [-5, 5], bias scaled by 5 in the
 /// sigmoid, polynomial mutation (eta 15) at rate 0.1 per weight and bias, and
 /// the structural rates 0.03 / 0.15 / 0.05 / 0.05 / 0.05.

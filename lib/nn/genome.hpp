@@ -27,7 +27,7 @@ struct Connection {
     friend bool operator==(const Connection&, const Connection&) = default;
 };
 
-/// The direct encoding of nn2's DNN (ORIGINAL.md 6.1-6.2): a directed graph
+/// The direct encoding of nn2's DNN (docs/original.md: network): a directed graph
 /// where recurrence and self-loops are allowed, with one bias gene per neuron
 /// and one weight gene per connection, every gene in [0, 1].
 ///
@@ -43,7 +43,7 @@ public:
     /// A genome with the given neurons, no hidden neuron, no connection, all bias genes 0.5.
     Genome(std::size_t input_count, std::size_t output_count);
 
-    /// The initial genome of collectball (nn2 `init = ff`, ORIGINAL.md 6.4):
+    /// The initial genome of collectball (nn2 `init = ff`, docs/original.md: network):
     /// every input connected to every output, each weight and bias gene drawn
     /// uniformly on [0, 1]. Connections are ordered by input, then output.
     static Genome random_perceptron(std::size_t input_count, std::size_t output_count, Rng& rng);
@@ -82,7 +82,7 @@ public:
     /// Removes hidden neuron `neuron` and every connection touching it.
     void remove_hidden(std::size_t neuron);
 
-    /// nn2's simplify (ORIGINAL.md 6.7): removes every hidden neuron with no
+    /// nn2's simplify (docs/original.md: network): removes every hidden neuron with no
     /// directed path to an output. Neurons unreachable from the inputs stay.
     /// Returns the number of neurons removed.
     std::size_t simplify();

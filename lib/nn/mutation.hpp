@@ -19,7 +19,7 @@ struct MutationReport {
     bool deleted_neuron = false;
 };
 
-/// nn2's gen::Dnn::mutate (ORIGINAL.md 6.5), in this order:
+/// nn2's gen::Dnn::mutate (docs/original.md: network), in this order:
 /// 1. mutate_weights, then rewire_one_connection;
 /// 2. mutate_biases;
 /// 3. with add_connection_rate, add_random_connection;

@@ -10,7 +10,7 @@
 
 namespace stepstone::nn {
 
-/// A Genome compiled to flat arrays for the episode loop (ORIGINAL.md 6.8):
+/// A Genome compiled to flat arrays for the episode loop (docs/original.md: network):
 /// one synchronous update per call of step(), every neuron reading the states
 /// of the previous step (an input -> output edge acts within the step, each
 /// hidden layer adds one step of delay).

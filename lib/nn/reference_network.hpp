@@ -8,7 +8,7 @@
 
 namespace stepstone::nn {
 
-/// A plain evaluation of the genome graph in nn2's manner (ORIGINAL.md 6.8,
+/// A plain evaluation of the genome graph in nn2's manner (docs/original.md: network,
 /// 8.4): one heap node per neuron in a linked list, each holding a linked list
 /// of incoming edges that point to their source node, walked every step.
 ///

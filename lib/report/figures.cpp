@@ -14,7 +14,7 @@ namespace stepstone::report {
 
 std::vector<GenerationPoint> load_generations(db::Connection& connection, std::int64_t run_id) {
     auto rows = connection.prepare(db::sql("report/select_generations.sql"));
-    rows.bind(rows.parameter(":run_id"), run_id);
+    rows.bind(":run_id", run_id);
     std::vector<GenerationPoint> out;
     while (rows.step()) {
         GenerationPoint p;

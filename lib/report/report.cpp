@@ -12,7 +12,7 @@
 #include "db/database.hpp"
 #include "db/digest.hpp"
 #include "exp/evolve_config.hpp"
-#include "exp/kb_tools.hpp"
+#include "exp/kb_stats.hpp"
 #include "exp/run_store.hpp"
 #include "report/arena_figure.hpp"
 #include "report/chart.hpp"
@@ -124,9 +124,10 @@ void run_report(const ReportOptions& options, const fs::path& dir, ReportSummary
 
     Page page(dir, concat("stepstone report: ", file));
     page.paragraph(concat("A ", xml_escape(run.task), "-task run, treatment <b>", xml_escape(run.treatment),
-                          "</b>, seed ", run.seed, ": generation ", run.generations_done, " of ", run.generations,
-                          " (", xml_escape(run.status), "), best task reward ", fixed(generations.back().best, 4),
-                          " (", static_cast<int>(generations.back().best * task->reward_divisor() + 0.5), " of ",
+                          "</b>, seed ", run.seed, ": generation ", run.generations_done, " of ",
+                          run.generations, " (", xml_escape(std::string(exp::to_string(run.status))),
+                          "), best task reward ", fixed(generations.back().best, 4), " (",
+                          static_cast<int>(generations.back().best * task->reward_divisor() + 0.5), " of ",
                           task->reward_divisor(), " balls)."));
     page.heading("Rewards");
     page.figure("rewards", kFigureWidth, kFigureHeight,

@@ -26,7 +26,9 @@ namespace {
 
 // a campaign_run row with what the report shows
 struct RunRow {
-    std::string step, treatment, file, status, digest, error;
+    exp::CampaignStep step = exp::CampaignStep::target;
+    exp::RunStatus status = exp::RunStatus::pending;
+    std::string treatment, file, digest, error;
     std::uint64_t seed = 0;
     int generations = 0, generations_done = -1;
     std::optional<double> best_reward;
@@ -40,20 +42,26 @@ struct KbRow {
 
 std::vector<RunRow> load_runs(db::Connection& connection) {
     auto rows = connection.prepare(db::sql("report/select_campaign_runs.sql"));
+    const int step = rows.column("step"), treatment = rows.column("treatment"), seed = rows.column("seed"),
+              file = rows.column("file"), generations = rows.column("generations"),
+              status = rows.column("status"), done = rows.column("generations_done"),
+              best = rows.column("best_reward"), digest = rows.column("digest"),
+              wall_time = rows.column("wall_time"), error = rows.column("error");
     std::vector<RunRow> out;
     while (rows.step()) {
         RunRow r;
-        r.step = rows.column_text(1);
-        r.treatment = rows.column_text(2);
-        r.seed = static_cast<std::uint64_t>(rows.column_int(3));
-        r.file = rows.column_text(4);
-        r.generations = static_cast<int>(rows.column_int(5));
-        r.status = rows.column_text(6);
-        r.generations_done = static_cast<int>(rows.column_int(7));
-        if (!rows.is_null(8)) r.best_reward = rows.column_double(8);
-        if (!rows.is_null(9)) r.digest = rows.column_text(9);
-        r.wall_time = rows.column_double(10);
-        if (!rows.is_null(11)) r.error = rows.column_text(11);
+        r.step = exp::parse_campaign_step(rows.column_text(step), connection.name() + ": campaign_run.step");
+        r.treatment = rows.column_text(treatment);
+        r.seed = static_cast<std::uint64_t>(rows.column_int(seed));
+        r.file = rows.column_text(file);
+        r.generations = static_cast<int>(rows.column_int(generations));
+        r.status =
+            exp::parse_run_status(rows.column_text(status), connection.name() + ": campaign_run.status");
+        r.generations_done = static_cast<int>(rows.column_int(done));
+        if (!rows.is_null(best)) r.best_reward = rows.column_double(best);
+        if (!rows.is_null(digest)) r.digest = rows.column_text(digest);
+        r.wall_time = rows.column_double(wall_time);
+        if (!rows.is_null(error)) r.error = rows.column_text(error);
         out.push_back(std::move(r));
     }
     return out;
@@ -62,9 +70,11 @@ std::vector<RunRow> load_runs(db::Connection& connection) {
 std::vector<KbRow> load_kbs(db::Connection& connection) {
     auto rows = connection.prepare(db::sql("report/select_campaign_kbs.sql"));
     std::vector<KbRow> out;
+    const int name = rows.column("name"), file = rows.column("file"), made_from = rows.column("made_from"),
+              digest = rows.column("digest"), segments = rows.column("segments");
     while (rows.step()) {
-        out.push_back({rows.column_text(0), rows.column_text(1), rows.column_text(2), rows.column_text(4),
-                       rows.column_int(3)});
+        out.push_back({rows.column_text(name), rows.column_text(file), rows.column_text(made_from),
+                       rows.column_text(digest), rows.column_int(segments)});
     }
     return out;
 }
@@ -80,7 +90,7 @@ std::optional<exp::CampaignStats> load_stats(const ReportOptions& options, const
         int reached = -1;
         bool any = false;
         for (const auto& r : runs) {
-            if (r.step != "target") continue;
+            if (r.step != exp::CampaignStep::target) continue;
             reached = any ? std::min(reached, r.generations_done) : r.generations_done;
             any = true;
         }
@@ -149,7 +159,9 @@ void add_statistics(Page& page, const exp::CampaignStats& stats, const std::vect
         treatments.push_back(t.treatment);
         series.emplace_back();
         for (const auto& r : runs) {
-            if (r.step != "target" || r.treatment != exp::to_string(t.treatment) || !fs::exists(dir / r.file)) continue;
+            if (r.step != exp::CampaignStep::target || r.treatment != exp::to_string(t.treatment) ||
+                !fs::exists(dir / r.file))
+                continue;
             auto connection = db::open_database(dir / r.file, db::OpenMode::read_only);
             series.back().push_back(load_generations(connection, exp::load_run(connection).id));
         }
@@ -173,7 +185,7 @@ void add_statistics(Page& page, const exp::CampaignStats& stats, const std::vect
 }
 
 // the finished run of `step` with the highest best reward (first on ties)
-const RunRow* best_run(const std::vector<RunRow>& runs, const std::string& step) {
+const RunRow* best_run(const std::vector<RunRow>& runs, exp::CampaignStep step) {
     const RunRow* best = nullptr;
     for (const auto& r : runs) {
         if (r.step != step || !r.best_reward || r.generations_done < 0) continue;
@@ -194,7 +206,7 @@ void campaign_report(const ReportOptions& options, const fs::path& dir, ReportSu
     Page page(dir, concat("stepstone report: campaign ", campaign_dir.lexically_normal().string()));
 
     std::size_t finished = 0;
-    for (const auto& r : runs) finished += r.status == "finished";
+    for (const auto& r : runs) finished += r.status == exp::RunStatus::finished;
     page.paragraph(concat("Campaign directory <code>", xml_escape(campaign_dir.string()), "</code>: ", runs.size(),
                           " runs, ", finished, " finished."));
 
@@ -218,14 +230,14 @@ void campaign_report(const ReportOptions& options, const fs::path& dir, ReportSu
         add_kb_section(page, "", *kb, row->made_from);
     }
     progress.update(2);
-    if (const auto* source = best_run(runs, "source")) {
+    if (const auto* source = best_run(runs, exp::CampaignStep::source)) {
         page.heading("The best source policy");
         const auto trace = trace_policy(campaign_dir / source->file, "best", 0, kb ? &kb->kb : nullptr,
                                         kb ? kb->name : "");
         add_trajectory(page, "source-best", trace, concat("The best policy of ", source->file));
     }
     progress.update(3);
-    if (const auto* target = best_run(runs, "target")) {
+    if (const auto* target = best_run(runs, exp::CampaignStep::target)) {
         page.heading("The best target policy");
         // coloured by the KB the run was shaped with
         const bool randomized = target->treatment.ends_with("-rand");
@@ -241,9 +253,10 @@ void campaign_report(const ReportOptions& options, const fs::path& dir, ReportSu
     page.heading("Runs");
     std::vector<std::vector<std::string>> rows;
     for (const auto& r : runs) {
-        rows.push_back({r.file, r.step, r.treatment, std::to_string(r.seed),
-                        concat(r.generations_done, " / ", r.generations), r.status,
-                        r.best_reward ? fixed(*r.best_reward, 4) : "-", format_duration(r.wall_time),
+        rows.push_back({r.file, std::string(exp::to_string(r.step)), r.treatment, std::to_string(r.seed),
+                        concat(r.generations_done, " / ", r.generations),
+                        std::string(exp::to_string(r.status)), r.best_reward ? fixed(*r.best_reward, 4) : "-",
+                        format_duration(r.wall_time),
                         r.digest.empty() ? (r.error.empty() ? "-" : r.error) : r.digest.substr(0, 16)});
     }
     page.table({"file", "step", "treatment", "seed", "generations", "status", "best reward", "time",

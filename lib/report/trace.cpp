@@ -7,8 +7,8 @@
 #include "core/error.hpp"
 #include "core/text.hpp"
 #include "db/database.hpp"
-#include "exp/kb_tools.hpp"
 #include "exp/replay.hpp"
+#include "exp/run_store.hpp"
 #include "kb/segments.hpp"
 
 namespace stepstone::report {

@@ -13,7 +13,7 @@
 #include "db/database.hpp"
 #include "db/kb_store.hpp"
 #include "exp/campaign.hpp"
-#include "exp/kb_tools.hpp"
+#include "exp/kb_stats.hpp"
 #include "exp/run_store.hpp"
 #include "kb/segments.hpp"
 #include "report/figures.hpp"
@@ -325,11 +325,11 @@ std::vector<KbService::RunFile> KbService::run_files() const {
     std::vector<RunFile> out;
     if (!campaign_) {
         auto connection = db::open_database(input_, db::OpenMode::read_only);
-        if (connection.query_int("SELECT count(*) FROM run").value_or(0) > 0) out.push_back({1, input_});
+        if (connection.query_int(db::sql("run/count_runs.sql")).value_or(0) > 0) out.push_back({1, input_});
         return out;
     }
     auto connection = db::open_database(input_ / "campaign.db", db::OpenMode::read_only);
-    auto rows = connection.prepare("SELECT id, file FROM campaign_run ORDER BY id");
+    auto rows = connection.prepare(db::sql("service/campaign_run_files.sql"));
     while (rows.step()) out.push_back({rows.column_int(0), input_ / rows.column_text(1)});
     return out;
 }
@@ -355,18 +355,18 @@ json KbService::runs() const {
     for (const auto& file : run_files()) {
         auto connection = db::open_database(file.path, db::OpenMode::read_only);
         const auto run = exp::load_run(connection);
-        const auto best = connection.query_int("SELECT count(*) FROM generation");
+        const auto best = connection.query_int(db::sql("run/count_generations.sql"));
         json row{{"id", file.id},
                  {"step", run.task},
                  {"treatment", run.treatment},
                  {"seed", run.seed},
                  {"file", file.path.filename().string()},
                  {"generations", run.generations},
-                 {"status", run.status},
+                 {"status", exp::to_string(run.status)},
                  {"generations_done", run.generations_done},
                  {"best_reward", json()}};
         if (best.value_or(0) > 0) {
-            auto select = connection.prepare("SELECT max(best_reward) FROM generation");
+            auto select = connection.prepare(db::sql("run/max_best_reward.sql"));
             if (select.step()) row["best_reward"] = select.column_double(0);
         }
         out.push_back(row);
@@ -396,7 +396,10 @@ json KbService::campaign() const {
     if (!campaign_) throw HttpError(404, "not serving a campaign directory");
     const auto index = exp::load_campaign(input_);
     json by_status = json::object();
-    for (const auto& status : index.statuses) by_status[status] = by_status.value(status, 0) + 1;
+    for (const auto& entry : index.runs) {
+        const std::string status(exp::to_string(entry.status));
+        by_status[status] = by_status.value(status, 0) + 1;
+    }
     json kbs = json::array();
     for (const auto& kb : kbs_) kbs.push_back(kb->name);
     return {{"directory", input_.filename().string()}, {"config", index.config}, {"runs", by_status}, {"kbs", kbs}};

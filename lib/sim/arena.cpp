@@ -26,7 +26,7 @@ constexpr WallBox pixel_box(int px0, int px1, int py0, int py1, std::string_view
                    (py1 + 0.5) * kUnitsPerPixel, name};
 }
 
-// pixel ranges of arena2.pbm / arena2b.pbm (ORIGINAL.md 1.2), inclusive; the
+// pixel ranges of arena2.pbm / arena2b.pbm (docs/original.md: arena), inclusive; the
 // door comes last so the open arena is the closed one minus its last box
 constexpr std::array<WallBox, 11> kWalls{{
     pixel_box(0, 4, 0, 197, "outer left"),

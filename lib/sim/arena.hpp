@@ -33,7 +33,7 @@ struct Contact {
     bool right = false;  ///< some overlapping wall lies at a bearing in (-pi/2, 0): input 10
 };
 
-/// The walls of the original arena (ORIGINAL.md 1.2), decoded from the
+/// The walls of the original arena (docs/original.md: arena), decoded from the
 /// 296 x 296 px bitmap: pixel i covers [(i - 0.5) 600/296, (i + 0.5) 600/296).
 /// Immutable; every query is const, allocation-free and thread-safe.
 ///

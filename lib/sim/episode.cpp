@@ -50,7 +50,7 @@ void Episode::begin_start(int index) {
 
     // the original's move(0, 0) at the new pose senses before the reset below,
     // so the first inputs of starts 2 and 3 still see the previous start's
-    // door and lights (ORIGINAL.md 1.5)
+    // door and lights (docs/original.md: objects)
     pose_ = task_->start_pose(index);
     sense(task_->arena(), task_->sight(), pose_, state_, readings_);
     carrying_ = false;

@@ -73,7 +73,7 @@ public:
     Episode(const Task& task, const Recording& recording = {});
 
     /// Begins start `index` (0 <= index < starts): pose, sensors, flags and
-    /// lights reset as in the original's instance() (ORIGINAL.md 1.4-1.6).
+    /// lights reset as in the original's instance() (docs/original.md: objects).
     void begin_start(int index);
     /// The 12 inputs of the current step (sensed at the end of the previous move).
     void read_inputs(float* inputs) const;
@@ -131,7 +131,7 @@ private:
     std::size_t cells_written_ = 0;
 };
 
-/// Runs one evaluation of `controller` on `task` (ORIGINAL.md 3.5 loop order)
+/// Runs one evaluation of `controller` on `task` (the loop order of docs/original.md: arena)
 /// and records into `recording`. Controller concept:
 ///   void reset();                                   // at each start, state to 0
 ///   void step(const float* inputs, float* outputs); // 12 inputs -> 3 outputs

@@ -128,7 +128,7 @@ inline float laser_input(double distance) {
     return distance < 0.0 ? 0.0f : static_cast<float>(1.0 - distance / kLaserRange);
 }
 
-/// Fills the 12 controller inputs in the order of ORIGINAL.md 2.2.
+/// Fills the 12 controller inputs in the order of docs/original.md (arena).
 inline void fill_inputs(const SensorReadings& readings, bool bumper_left, bool bumper_right, bool carrying,
                         float* inputs) {
     for (std::size_t i = 0; i < 3; ++i) inputs[i] = laser_input(readings.laser[i]);

@@ -24,8 +24,8 @@ void TaskConfig::validate() const {
     if (grid_period < 1) throw ConfigError(concat("grid_period must be >= 1, got ", grid_period));
 }
 
-Task::Task(const TaskConfig& config, std::vector<Light> lights, std::uint32_t initial_lit, bool door_starts_open,
-           int switch_index, int spawn_ball_index)
+Task::Task(const TaskConfig& config, std::vector<Light> lights, std::uint32_t initial_lit,
+           bool door_starts_open, int switch_index, int spawn_ball_index)
     : config_(config),
       lights_(std::move(lights)),
       sight_(arena_, lights_),
@@ -33,7 +33,8 @@ Task::Task(const TaskConfig& config, std::vector<Light> lights, std::uint32_t in
       door_starts_open_(door_starts_open),
       switch_index_(switch_index),
       spawn_ball_index_(spawn_ball_index),
-      // ORIGINAL.md 1.4: (195 + 405/4, 405/4, pi/4), (195 + 3*405/4, 3*405/4, -3pi/4), (195 + 405/4, 3*405/4, -pi/4)
+      // docs/original.md (objects): (195 + 405/4, 405/4, pi/4), (195 + 3*405/4, 3*405/4, -3pi/4), (195 +
+      // 405/4, 3*405/4, -pi/4)
       start_poses_{{{296.25, 101.25, kPi / 4}, {498.75, 303.75, -3 * kPi / 4}, {296.25, 303.75, -kPi / 4}}} {}
 
 std::size_t Task::behaviour_size() const {

@@ -61,7 +61,7 @@ public:
     int switch_index() const { return switch_index_; }
     /// Ball lit by a switch press (target task), or -1 (source task: the press opens the door).
     int spawn_ball_index() const { return spawn_ball_index_; }
-    /// Start pose of start `index` (0-2), ORIGINAL.md 1.4.
+    /// Start pose of start `index` (0-2), docs/original.md: objects.
     const Pose& start_pose(int index) const { return start_poses_[static_cast<std::size_t>(index)]; }
 
     /// Floats in a behaviour matrix: steps_per_start x kChannels.

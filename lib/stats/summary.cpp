@@ -21,15 +21,23 @@ double quantile7(const std::vector<double>& sorted, double q) {
     return (1.0 - f) * sorted[lo] + f * sorted[lo + 1];
 }
 
-}  // namespace
-
-Summary summarize(std::span<const double> values) {
-    if (values.empty()) throw DataError("summarize: no values");
+// the values sorted; throws for none or a NaN, naming `what`
+std::vector<double> sorted_sample(std::span<const double> values, const char* what) {
+    if (values.empty()) throw DataError(concat(what, ": no values"));
     for (std::size_t i = 0; i < values.size(); ++i) {
-        if (std::isnan(values[i])) throw DataError(concat("summarize: value ", i, " is NaN"));
+        if (std::isnan(values[i])) throw DataError(concat(what, ": value ", i, " is NaN"));
     }
     std::vector<double> sorted(values.begin(), values.end());
     std::sort(sorted.begin(), sorted.end());
+    return sorted;
+}
+
+}  // namespace
+
+double median(std::span<const double> values) { return quantile7(sorted_sample(values, "median"), 0.5); }
+
+Summary summarize(std::span<const double> values) {
+    const std::vector<double> sorted = sorted_sample(values, "summarize");
 
     double sum = 0.0;
     for (double x : values) sum += x;

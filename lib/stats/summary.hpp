@@ -24,6 +24,10 @@ struct Summary {
 /// median = 2.5, q3 = 3.25. Throws DataError if values is empty or holds a NaN.
 Summary summarize(std::span<const double> values);
 
+/// The type-7 median of summarize (the middle value, or the mean of the two
+/// middle ones). Throws DataError if values is empty or holds a NaN.
+double median(std::span<const double> values);
+
 /// Number of values >= threshold (0 for no values). Throws DataError if the
 /// threshold or a value is NaN.
 std::size_t count_at_least(std::span<const double> values, double threshold);

@@ -1,1 +1,1 @@
-SELECT value FROM meta WHERE key = ?1
+SELECT value FROM meta WHERE key = :key

@@ -25,7 +25,7 @@ BitmapRobot robot_at(BitmapPose pose, const BitmapMap& map, const std::vector<Li
 TEST_CASE("the rasterised bitmap has the walls of the wall table", "[bench][fastsim]") {
     const BitmapMap closed(Door::closed);
     const BitmapMap open(Door::open);
-    // ORIGINAL.md 1.2 gives each wall as pixel ranges; pixel centres are i / fx
+    // lib/sim/arena.cpp gives each wall as pixel ranges (docs/original.md: arena); pixel centres are i / fx
     for (const BitmapMap* map : {&closed, &open}) {
         CHECK(map->obstacle(4, 100));     // outer left, x 0-4
         CHECK_FALSE(map->obstacle(5, 100));

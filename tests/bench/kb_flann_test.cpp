@@ -3,8 +3,6 @@
 
 #include <catch2/catch.hpp>
 
-#if STEPSTONE_HAVE_KB_CASES
-
 #include "bench/bench_kb.hpp"
 
 using namespace stepstone;
@@ -23,5 +21,3 @@ TEST_CASE("kb-flann: FLANN's kd-forest finds most exact nearest neighbours of th
     CHECK(m.lookup_queries_per_s > 0.0);
     CHECK(m.flann_queries_per_s > 0.0);
 }
-
-#endif

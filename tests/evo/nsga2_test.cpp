@@ -43,7 +43,7 @@ TEST_CASE("generation 0 evaluates twice the population and keeps the population"
     CHECK(population.genomes.size() == 20);
     CHECK(population.objectives.size() == 20);
     CHECK(population.crowding.size() == 20);
-    CHECK(population.evaluations == 40);  // ORIGINAL.md 7.1: initial_aleat = 2
+    CHECK(population.evaluations == 40);  // initial_aleat = 2 (docs/original.md: NSGA-II)
     CHECK(population.generation == 0);
 }
 

@@ -94,7 +94,7 @@ TEST_CASE("campaign plan: source runs by seed, then target runs seed-major in co
     for (std::size_t k = 0; k < plan.size(); ++k) {
         INFO(k);
         CHECK(plan[k].file == files[k]);
-        CHECK(plan[k].step == (k < 2 ? "source" : "target"));
+        CHECK(plan[k].step == (k < 2 ? exp::CampaignStep::source : exp::CampaignStep::target));
         CHECK(plan[k].generations == (k < 2 ? 3 : 5));
     }
     CHECK(plan[0].seed == 4);

@@ -221,7 +221,8 @@ TEST_CASE("every example run config parses and the paper's carries the paper's v
         ++parsed;
     }
     CHECK(parsed >= 2);
-    // DESIGN.md section 4: population 200, generations 0..4000, 3 x 4000 steps, w = 20, delta = 1.83, period 200
+    // the paper's parameters (docs/runs.md, examples/source_paper.json): population 200, generations 0..4000,
+    // 3 x 4000 steps, w = 20, delta = 1.83, period 200
     const auto paper = exp::EvolveConfig::load(examples / "source_paper.json");
     CHECK(paper.ea.population_size == 200);
     CHECK(paper.ea.generations == 4000);

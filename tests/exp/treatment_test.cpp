@@ -1,8 +1,9 @@
 // The five treatments: the sum objective's ranking guarantee, the objectives
 // each treatment selects on, and evolve runs shaped by hand-made KBs whose
 // r_max is known without running the code under test.
-#include <catch2/catch.hpp>
+#include "exp/treatment.hpp"
 
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <random>
 
@@ -10,7 +11,8 @@
 #include "db/database.hpp"
 #include "db/digest.hpp"
 #include "db/kb_store.hpp"
-#include "exp/treatment.hpp"
+#include "exp/run_status.hpp"
+#include "exp/run_store.hpp"
 #include "kb/knowledge_base.hpp"
 #include "support/run_cli.hpp"
 #include "support/temp_dir.hpp"
@@ -270,4 +272,31 @@ TEST_CASE("a shaped run resumes to the digest of an uninterrupted one and refuse
                                 {"--resume", "--generations", "6", "--kb", (dir / "other.db").string()});
     CHECK(refused.exit_code == 2);
     CHECK_THAT(refused.err, Contains("differs from the one the run was started with"));
+}
+
+TEST_CASE("run statuses and campaign steps are enums, converted at the database boundary", "[exp][status]") {
+    for (const auto status : {exp::RunStatus::pending, exp::RunStatus::running, exp::RunStatus::finished,
+                              exp::RunStatus::failed}) {
+        CHECK(exp::parse_run_status(exp::to_string(status), "status") == status);
+    }
+    CHECK(exp::to_string(exp::RunStatus::finished) == "finished");
+    CHECK(exp::to_string(exp::CampaignStep::source) == "source");
+    CHECK(exp::parse_campaign_step("target", "step") == exp::CampaignStep::target);
+    CHECK_THROWS_AS(exp::parse_campaign_step("Target", "step"), DatabaseError);
+
+    // a run file whose status is none of them is refused when read, naming the file and column
+    test::TempDir dir;
+    auto connection = db::open_database(dir / "run.db", db::OpenMode::create);
+    exp::RunRecord run;
+    run.task = "source";
+    run.config = nlohmann::json::object();
+    exp::insert_run(connection, run, "test");
+    CHECK(exp::load_run(connection).status == exp::RunStatus::running);
+    // the schema's CHECK refuses it too; a file written by other means may still hold it
+    connection.exec("PRAGMA ignore_check_constraints = ON; UPDATE run SET status = 'paused'");
+    CHECK_THROWS_AS(exp::load_run(connection), DatabaseError);
+    CHECK_THROWS_WITH(
+        exp::load_run(connection),
+        Catch::Matchers::Contains("run.status must be one of pending|running|finished|failed") &&
+            Catch::Matchers::Contains("\"paused\""));
 }

@@ -89,7 +89,7 @@ struct Shape {
 }  // namespace
 
 TEST_CASE("params are validated with one-line messages naming the value", "[kb][errors]") {
-    // STYLE.md's example message: "delta must be > 0, got -1"
+    // the message form of docs/development.md: "delta must be > 0, got -1"
     REQUIRE_THROWS_AS(kb::KnowledgeBase(params_of(20, 15, -1)), ConfigError);
     REQUIRE_THROWS_WITH(kb::KnowledgeBase(params_of(20, 15, -1)), Contains("delta must be > 0") && Contains("got -1"));
     REQUIRE_THROWS_WITH(kb::KnowledgeBase(params_of(20, 15, 0)), Contains("got 0"));

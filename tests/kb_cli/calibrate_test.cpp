@@ -5,7 +5,7 @@
 
 #include "core/error.hpp"
 #include "db/database.hpp"
-#include "exp/kb_tools.hpp"
+#include "exp/kb_calibrate.hpp"
 #include "exp/replay.hpp"
 #include "kb_cli/fixtures.hpp"
 #include "sim/sensors.hpp"
@@ -42,9 +42,9 @@ TEST_CASE("calibration of a hand-made behaviour follows the mean distance to the
 
     // a 2 x 2 behaviour with width 2 is one segment: the rule needs two
     CHECK_THROWS_AS(exp::calibrate_behaviours(std::vector<float>{0, 1, 2, 3}, {}, 2, 2, {}), DataError);
-    CHECK_THROWS_WITH(exp::parse_deltas("1,,2"), Contains("--deltas"));
-    CHECK_THROWS_AS(exp::parse_deltas("1,-2"), ConfigError);
-    CHECK(exp::parse_deltas("0.5,1.83") == std::vector<double>{0.5, 1.83});
+    CHECK_THROWS_WITH(exp::parse_deltas("1,,2", "--deltas"), Contains("--deltas"));
+    CHECK_THROWS_AS(exp::parse_deltas("1,-2", "--deltas"), ConfigError);
+    CHECK(exp::parse_deltas("0.5,1.83", "--deltas") == std::vector<double>{0.5, 1.83});
 }
 
 TEST_CASE("kb calibrate on a run uses the replayed best policy and the run's stored policies",

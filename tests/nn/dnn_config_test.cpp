@@ -19,7 +19,7 @@ DnnConfig parse(const char* text) {
 }  // namespace
 
 TEST_CASE("the defaults are the paper's DNN settings", "[nn][config]") {
-    // ORIGINAL.md 6.1-6.5 and DESIGN.md 4
+    // docs/original.md: network; docs/runs.md
     const DnnConfig c;
     CHECK(c.inputs == 12);
     CHECK(c.outputs == 3);

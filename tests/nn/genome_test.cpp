@@ -14,7 +14,7 @@ using Catch::Matchers::Contains;
 TEST_CASE("the initial genome is the full 12 to 3 perceptron of collectball", "[nn][genome]") {
     Rng rng(1);
     const Genome genome = Genome::random_perceptron(DnnConfig{}, rng);
-    // ORIGINAL.md 6.4: 12 x 3 = 36 connections, no hidden neuron
+    // docs/original.md (network): 12 x 3 = 36 connections, no hidden neuron
     CHECK(genome.input_count() == 12);
     CHECK(genome.output_count() == 3);
     CHECK(genome.hidden_count() == 0);

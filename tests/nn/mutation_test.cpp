@@ -70,7 +70,7 @@ TEST_CASE("weights and biases each mutate with the configured rate", "[nn][mutat
         }
         REQUIRE(genome.connection_count() == before.connection_count());
     }
-    // rate 0.1 (ORIGINAL.md 6.5); n is 78,000 weights and 36,000 biases: 5 sd < 0.008
+    // rate 0.1 (docs/original.md: network); n is 78,000 weights and 36,000 biases: 5 sd < 0.008
     CHECK(static_cast<double>(weights_changed) / static_cast<double>(weights) == Approx(0.1).margin(0.006));
     CHECK(static_cast<double>(biases_changed) / static_cast<double>(biases) == Approx(0.1).margin(0.008));
 }
@@ -190,7 +190,7 @@ TEST_CASE("structural operators fire at the configured rates", "[nn][mutation]")
         del_neuron += report.deleted_neuron;
         nn_test::require_invariants(genome);
     }
-    // ORIGINAL.md 6.5: 0.15, 0.05, 0.05, 0.05; each operator can act on this genome
+    // docs/original.md (network): 0.15, 0.05, 0.05, 0.05; each operator can act on this genome
     // (add-connection could only fail after V^2 duplicate draws). Margins are 5 sd
     // at n = 20000: 0.0126 for 0.15 and 0.0077 for 0.05
     CHECK(add_conn / double(trials) == Approx(0.15).margin(0.0126));

@@ -84,7 +84,7 @@ TEST_CASE("the activation is nn2's sigmoid with the bias scaled by 5", "[nn][act
 }
 
 TEST_CASE("each hidden layer delays the signal by one step", "[nn][network]") {
-    // 0 -> 2 -> 1 with w = 5 and b = 0 everywhere (ORIGINAL.md 6.8)
+    // 0 -> 2 -> 1 with w = 5 and b = 0 everywhere (docs/original.md: network)
     Genome genome(1, 1);
     genome.add_hidden(0.5);
     genome.add_connection(0, 2, 1.0);

@@ -2,13 +2,11 @@
 // in-process r_max.
 
 #include <catch2/catch.hpp>
-
 #include <cstdio>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
-#include <nlohmann/json.hpp>
-
-#include "exp/kb_tools.hpp"
+#include "exp/kb_apply.hpp"
 #include "exp/replay.hpp"
 #include "report/runs.hpp"
 #include "server_process.hpp"

@@ -2,19 +2,17 @@
 // library's answers, the documented 4xx for bad requests, concurrent clients,
 // durable observations and the safety rules.
 
-#include <catch2/catch.hpp>
-
 #include <httplib.h>
 
 #include <algorithm>
+#include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
 #include <random>
 #include <thread>
 
-#include <nlohmann/json.hpp>
-
 #include "db/database.hpp"
 #include "db/kb_store.hpp"
-#include "exp/kb_tools.hpp"
+#include "exp/kb_apply.hpp"
 #include "exp/replay.hpp"
 #include "kb/segments.hpp"
 #include "report/runs.hpp"

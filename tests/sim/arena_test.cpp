@@ -50,7 +50,7 @@ TEST_CASE("the robot disc collides within 20 units of a wall face", "[sim][arena
     // near the door: overlaps only while it is closed (divider's right face at 207.77)
     CHECK(arena.disc_overlaps(pixel_edge(102.5) + 19.0, 304.0, false));
     CHECK_FALSE(arena.disc_overlaps(pixel_edge(102.5) + 19.0, 304.0, true));
-    // start poses of ORIGINAL.md 1.4 are free
+    // the start poses (docs/original.md: objects) are free
     CHECK_FALSE(arena.disc_overlaps(296.25, 101.25, false));
     CHECK_FALSE(arena.disc_overlaps(498.75, 303.75, false));
     CHECK_FALSE(arena.disc_overlaps(296.25, 303.75, false));

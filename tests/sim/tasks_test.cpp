@@ -114,7 +114,7 @@ TEST_CASE("a full trace has one sample per step run", "[sim][tasks]") {
     std::vector<PoseSample> trace;
     const auto result = run_episode(*task, controller, Recording{{}, {}, &trace});
     REQUIRE(trace.size() == static_cast<std::size_t>(result.steps_run));
-    // each start begins at its start pose (ORIGINAL.md 1.4)
+    // each start begins at its start pose (docs/original.md: objects)
     CHECK(trace[30].start == 1);
     CHECK(trace[30].step == 0);
     CHECK(trace[30].x == 498.75);

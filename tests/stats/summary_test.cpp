@@ -84,3 +84,16 @@ TEST_CASE("count_at_least: by hand") {
     CHECK_THROWS_AS(count_at_least(v, nan), DataError);
     CHECK_THROWS_AS(count_at_least(std::vector<double>{1, nan}, 0.0), DataError);
 }
+
+TEST_CASE("median: the middle value, or the mean of the two middle ones, as summarize gives it") {
+    const std::vector<double> odd{5, 1, 3};
+    const std::vector<double> even{4, 1, 3, 2};
+    CHECK(median(odd) == 3.0);
+    CHECK(median(even) == 2.5);
+    // 0.1 + 0.2 is not 0.3 in binary: both halves are added as the old median_of did, 0.5 (a + b)
+    const std::vector<double> tenths{0.2, 0.1};
+    CHECK(median(tenths) == 0.5 * (0.1 + 0.2));
+    CHECK(median(even) == summarize(even).median);
+    CHECK_THROWS_AS(median(std::vector<double>{}), DataError);
+    CHECK_THROWS_AS(median(std::vector<double>{1.0, std::numeric_limits<double>::quiet_NaN()}), DataError);
+}

@@ -1,4 +1,4 @@
-// The source task (collectball's default build, ORIGINAL.md 1.3-1.5): eight
+// The source task (collectball's default build, docs/original.md: objects): eight
 // lit balls, four of them in the left room behind a closed door; pressing the
 // switch opens the door until the next start.
 

@@ -1,4 +1,4 @@
-// The target task (collectball's VARIANT_SW2, ORIGINAL.md 1.6): the door is
+// The target task (collectball's VARIANT_SW2, docs/original.md: objects): the door is
 // open throughout, the only ball sits unlit at the top-left position (97.5,
 // 50.625) and each switch press lights it; the switch re-arms 100 steps later.
 

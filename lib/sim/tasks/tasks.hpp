@@ -7,7 +7,7 @@
 
 namespace stepstone::sim::tasks {
 
-/// Ball positions of the original (ORIGINAL.md 1.3), units.
+/// Ball positions of the original (docs/original.md: objects), units.
 inline constexpr std::array<Light, 8> kBalls{{
     {LightKind::ball, 296.25, 50.625},
     {LightKind::ball, 296.25, 151.875},

@@ -1,0 +1,1 @@
+SELECT config FROM campaign WHERE id = 1

@@ -1,0 +1,1 @@
+SELECT file FROM campaign_kb ORDER BY name

@@ -1,0 +1,1 @@
+SELECT max(best_reward) FROM generation

@@ -1,0 +1,1 @@
+SELECT id, file FROM campaign_run ORDER BY id
