@@ -72,8 +72,9 @@ void add_campaign_command(CLI::App& app) {
     cmd->add_flag("--resume", flags->resume, "Continue the campaign in --dir: finished runs are kept, others resumed");
     cmd->add_flag("--dry-run", flags->dry_run, "Print the plan and its estimated cost; run nothing");
     cmd->add_flag("--quiet", flags->quiet, "No progress on stderr");
-    cmd->add_flag("--mpi", flags->mpi,
-                  "Under mpirun: rank 0 keeps campaign.db and hands whole runs to the other ranks (docs/scaling.md)");
+    cmd->add_flag(
+        "--mpi", flags->mpi,
+        "Under mpirun: rank 0 keeps campaign.db and hands whole runs to the other ranks (docs/scaling.md)");
     cmd->footer(example({"stepstone campaign examples/campaign_quick.json --dir camp --jobs 2",
                          "stepstone campaign examples/campaign_quick.json --dir camp --resume",
                          "stepstone campaign examples/campaign_paper.json --dry-run",
@@ -84,7 +85,8 @@ void add_campaign_command(CLI::App& app) {
         if (flags->dry_run && flags->resume) throw ConfigError("--dry-run and --resume cannot be used together");
         if (flags->mpi && flags->dry_run) throw ConfigError("--dry-run and --mpi cannot be used together");
         if (flags->mpi && flags->jobs > 0) {
-            throw ConfigError("--jobs does not apply with --mpi: each rank but rank 0 runs one run at a time");
+            throw ConfigError(
+                "--jobs does not apply with --mpi: each rank but rank 0 runs one run at a time");
         }
         run_campaign_command(*flags);
     });

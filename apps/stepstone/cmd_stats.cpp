@@ -43,8 +43,9 @@ void add_stats_command(CLI::App& app) {
     cmd->add_option("--tests-csv", flags->tests_csv,
                     "Write one row per pair: treatment_a,treatment_b,n_a,n_b,u,p,p_holm,a12");
     cmd->add_flag("--force", flags->force, "Replace existing CSV files");
-    cmd->add_flag("--available", flags->available,
-                  "A campaign still running: compare the runs that have reached the generation, list the others");
+    cmd->add_flag(
+        "--available", flags->available,
+        "A campaign still running: compare the runs that have reached the generation, list the others");
     cmd->footer(example({"stepstone stats camp", "stepstone stats camp --generation 10 --threshold 0.25",
                          "stepstone stats camp --available --generation 300",
                          "stepstone stats camp --runs-csv runs.csv --tests-csv tests.csv"}));

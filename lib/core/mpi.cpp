@@ -124,7 +124,8 @@ void Session::complete(void* request, const char* call) {
 
 void Session::send(int dest, int tag, std::string_view bytes) {
     MPI_Request request;
-    check(MPI_Isend(bytes.data(), static_cast<int>(bytes.size()), MPI_BYTE, dest, tag, MPI_COMM_WORLD, &request),
+    check(MPI_Isend(bytes.data(), static_cast<int>(bytes.size()), MPI_BYTE, dest, tag, MPI_COMM_WORLD,
+                    &request),
           "MPI_Isend");
     complete(&request, "MPI_Isend");
 }
@@ -146,7 +147,8 @@ Message Session::receive(const Envelope& envelope) {
     check(MPI_Get_count(&status, MPI_BYTE, &count), "MPI_Get_count");
     Message message{envelope.source, envelope.tag, std::string(static_cast<std::size_t>(count), '\0')};
     MPI_Request request;
-    check(MPI_Irecv(message.bytes.data(), count, MPI_BYTE, envelope.source, envelope.tag, MPI_COMM_WORLD, &request),
+    check(MPI_Irecv(message.bytes.data(), count, MPI_BYTE, envelope.source, envelope.tag, MPI_COMM_WORLD,
+                    &request),
           "MPI_Irecv");
     complete(&request, "MPI_Irecv");
     return message;

@@ -193,14 +193,15 @@ std::vector<PlannedRun> plan_runs(const CampaignConfig& config) {
     std::vector<PlannedRun> runs;
     if (config.source) {
         for (std::uint64_t seed : config.source->seeds) {
-            runs.push_back(
-                {CampaignStep::source, Treatment::none, seed, "source/" + seed_file(seed), config.source->generations});
+            runs.push_back({CampaignStep::source, Treatment::none, seed, "source/" + seed_file(seed),
+                            config.source->generations});
         }
     }
     // seed-major: an interrupted campaign leaves every treatment with as many finished runs
     for (std::uint64_t seed : config.target.seeds) {
         for (Treatment t : config.treatments) {
-            runs.push_back({CampaignStep::target, t, seed, concat("target/", to_string(t), "/", seed_file(seed)),
+            runs.push_back({CampaignStep::target, t, seed,
+                            concat("target/", to_string(t), "/", seed_file(seed)),
                             config.target.generations});
         }
     }

@@ -219,10 +219,11 @@ void Runner::report(const std::vector<Active>& active) {
     std::string status = concat("runs ", finished, "/", runs_.size());
     for (const auto& run : active) {
         const auto& state = runs_[run.index];
-        status += concat(
-            "  ",
-            std::string(state.run.step == CampaignStep::source ? to_string(state.run.step) : to_string(state.run.treatment)),
-            "/", state.run.seed, " g", std::max(0, state.generations_done), "/", state.run.generations);
+        status += concat("  ",
+                         std::string(state.run.step == CampaignStep::source ? to_string(state.run.step)
+                                                                            : to_string(state.run.treatment)),
+                         "/", state.run.seed, " g", std::max(0, state.generations_done), "/",
+                         state.run.generations);
     }
     progress_.update(done, status);
 }

@@ -146,8 +146,8 @@ CampaignStats campaign_stats(const fs::path& dir, std::optional<int> generation,
 
 void write_text(std::ostream& out, const CampaignStats& stats) {
     char line[256];
-    out << "campaign " << stats.dir << ": " << stats.runs.size() << " target runs at generation " << stats.generation
-        << "; success = best-of-run reward >= " << stats.threshold << "\n";
+    out << "campaign " << stats.dir << ": " << stats.runs.size() << " target runs at generation "
+        << stats.generation << "; success = best-of-run reward >= " << stats.threshold << "\n";
     if (!stats.skipped.empty()) {
         out << stats.skipped.size() << " target runs not yet at generation " << stats.generation
             << " left out (--available):";

@@ -65,8 +65,8 @@ struct CampaignStats {
 /// DatabaseError for an unreadable file. With `available_only` (a campaign
 /// still running), runs that are missing or short of `generation` are left
 /// out and listed in `skipped` instead; DataError if no run is left.
-CampaignStats campaign_stats(const std::filesystem::path& dir, std::optional<int> generation, double threshold,
-                             bool available_only = false);
+CampaignStats campaign_stats(const std::filesystem::path& dir, std::optional<int> generation,
+                             double threshold, bool available_only = false);
 
 /// The text report: per-treatment summary, success counts along generations,
 /// and the pairwise tests.

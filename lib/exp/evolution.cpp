@@ -15,8 +15,8 @@
 #include "db/digest.hpp"
 #include "db/kb_store.hpp"
 #include "evo/pareto.hpp"
-#include "exp/mpi_evolve.hpp"
 #include "evo/selection.hpp"
+#include "exp/mpi_evolve.hpp"
 #include "kb/segments.hpp"
 #include "nn/mutation.hpp"
 #include "stats/summary.hpp"
@@ -167,7 +167,8 @@ std::vector<Evaluation> Evolution::evaluate(const std::vector<nn::Genome>& genom
         evaluations = remote_->evaluate(genomes, observe ? &behaviours : nullptr);
         time_simulation_ = now_seconds() - started;
     } else {
-        evaluations = evaluate_all(*task_, genomes, config_.dnn, threads_, observe || shape ? &behaviours : nullptr);
+        evaluations =
+            evaluate_all(*task_, genomes, config_.dnn, threads_, observe || shape ? &behaviours : nullptr);
         time_simulation_ = now_seconds() - started;
         if (shape) {
             // lookups only read the KB: each policy's r_max goes to its own slot
@@ -509,10 +510,11 @@ EvolveSummary run_evolve(const EvolveOptions& options) {
         // every committed generation goes into the main file: no -wal / -shm is left beside it
         db::finish_writing(connection);
         connection.close();
-        const std::string where = concat(
-            "stopped ",
-            committed < 0 ? std::string("before generation 0") : concat("after generation ", committed, " of ", target),
-            "; continue with: stepstone evolve --db ", name, " --resume", options.mpi ? " --mpi" : "");
+        const std::string where =
+            concat("stopped ",
+                   committed < 0 ? std::string("before generation 0")
+                                 : concat("after generation ", committed, " of ", target),
+                   "; continue with: stepstone evolve --db ", name, " --resume", options.mpi ? " --mpi" : "");
         if (!reason.empty()) throw Error(concat(name, ": ", reason, "; ", where));
         throw Interrupted(concat(name, ": ", where));
     };
@@ -523,7 +525,8 @@ EvolveSummary run_evolve(const EvolveOptions& options) {
         try {
             write = committed < 0 ? evolution.initialise() : evolution.epoch();
         } catch (const EvaluationInterrupted& e) {
-            stop(committed, e.reason);  // the generation in progress is dropped: a resume redoes it identically
+            stop(committed,
+                 e.reason);  // the generation in progress is dropped: a resume redoes it identically
         }
         write_generation(connection, run, write);
         evaluations_here += write.stats.evaluations;

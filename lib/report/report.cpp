@@ -169,12 +169,11 @@ void run_report(const ReportOptions& options, const fs::path& dir, ReportSummary
     }
     page.table({"generation", "best reward", "median reward", "mean r_max"}, rows);
     page.heading("Provenance");
-    page.table({"fact", "value"},
-               {{"file", options.input.string()},
-                {"seed", std::to_string(run.seed)},
-                {"evaluations", std::to_string(run.evaluations)},
-                {"run digest (stepstone db digest)", db::run_digest(connection)},
-                {"report written by", "stepstone " + full_version()}});
+    page.table({"fact", "value"}, {{"file", options.input.string()},
+                                   {"seed", std::to_string(run.seed)},
+                                   {"evaluations", std::to_string(run.evaluations)},
+                                   {"run digest (stepstone db digest)", db::run_digest(connection)},
+                                   {"report written by", "stepstone " + full_version()}});
     page.heading("Config", 3);
     page.preformatted(run.config.dump(2));
     progress.finish();

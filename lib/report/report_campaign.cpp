@@ -268,9 +268,11 @@ void campaign_report(const ReportOptions& options, const fs::path& dir, ReportSu
         page.table({"KB", "file", "made from", "segments", "content digest"}, kb_rows, "Knowledge bases");
     }
     page.heading("Provenance");
-    page.paragraph(concat("Report written by stepstone ", full_version(), ". Every run file's digest "
-                          "(<code>stepstone db digest</code>) is in the runs table; the same seeds and configs give "
-                          "the same digests on any machine and thread count."));
+    page.paragraph(
+        concat("Report written by stepstone ", full_version(),
+               ". Every run file's digest "
+               "(<code>stepstone db digest</code>) is in the runs table; the same seeds and configs give "
+               "the same digests on any machine and thread count."));
     page.heading("Campaign config", 3);
     page.preformatted(index.config.dump(2));
     progress.finish();

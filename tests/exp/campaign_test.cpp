@@ -1,7 +1,8 @@
 // stepstone campaign and stepstone stats, end to end on tiny campaigns.
-#include <catch2/catch.hpp>
+#include "exp/campaign.hpp"
 
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <chrono>
 #include <map>
 #include <thread>
@@ -9,7 +10,6 @@
 #include "db/database.hpp"
 #include "db/digest.hpp"
 #include "db/kb_store.hpp"
-#include "exp/campaign.hpp"
 #include "support/db_files.hpp"
 #include "support/run_cli.hpp"
 #include "support/temp_dir.hpp"
@@ -78,10 +78,10 @@ void set_best(const std::filesystem::path& run, double value) {
 // best-of-run rewards chosen by hand for seeds 1 and 2 of each treatment
 void set_hand_bests(const std::filesystem::path& camp) {
     const std::map<std::string, std::pair<double, double>> best = {{"none", {0.125, 0.25}},
-                                                                    {"sum", {0.625, 0.75}},
-                                                                    {"mo", {0.375, 0.875}},
-                                                                    {"sum-rand", {0.0, 0.0}},
-                                                                    {"mo-rand", {0.0, 0.5}}};
+                                                                   {"sum", {0.625, 0.75}},
+                                                                   {"mo", {0.375, 0.875}},
+                                                                   {"sum-rand", {0.0, 0.0}},
+                                                                   {"mo-rand", {0.0, 0.5}}};
     for (const auto& [treatment, values] : best) {
         set_best(camp / "target" / treatment / "seed-1.db", values.first);
         set_best(camp / "target" / treatment / "seed-2.db", values.second);
@@ -227,8 +227,9 @@ TEST_CASE("stats --available compares the runs that have reached the generation 
     }
     REQUIRE(test::run_cli({"stats", camp.string()}).exit_code == 1);  // without the flag: refused
 
-    const auto result = test::run_cli({"stats", camp.string(), "--available", "--runs-csv",
-                                       (dir / "runs.csv").string(), "--tests-csv", (dir / "tests.csv").string()});
+    const auto result =
+        test::run_cli({"stats", camp.string(), "--available", "--runs-csv", (dir / "runs.csv").string(),
+                       "--tests-csv", (dir / "tests.csv").string()});
     INFO(result.err);
     REQUIRE(result.exit_code == 0);
     CHECK_THAT(result.out, Contains("2 target runs not yet at generation 2 left out") &&

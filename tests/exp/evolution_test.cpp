@@ -1,9 +1,10 @@
+#include "exp/evolution.hpp"
+
 #include <catch2/catch.hpp>
 
 #include "core/error.hpp"
 #include "db/database.hpp"
 #include "db/digest.hpp"
-#include "exp/evolution.hpp"
 #include "exp/replay.hpp"
 #include "support/db_files.hpp"
 #include "support/temp_dir.hpp"

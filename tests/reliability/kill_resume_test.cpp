@@ -3,12 +3,11 @@
 // PRAGMA integrity_check after each kill; readers during a write never see
 // "database is locked" nor a half-written generation.
 
-#include <catch2/catch.hpp>
-
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <catch2/catch.hpp>
 #include <chrono>
 #include <csignal>
 #include <filesystem>

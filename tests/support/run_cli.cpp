@@ -51,7 +51,8 @@ pid_t spawn(const std::vector<std::string>& command, const std::filesystem::path
     if (pid < 0) throw std::runtime_error("fork failed");
     if (pid == 0) {
         const auto open_output = [](const std::filesystem::path& path) {
-            return path.empty() ? ::open("/dev/null", O_WRONLY) : ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+            return path.empty() ? ::open("/dev/null", O_WRONLY)
+                                : ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
         };
         ::dup2(::open("/dev/null", O_RDONLY), STDIN_FILENO);
         ::dup2(open_output(out_path), STDOUT_FILENO);

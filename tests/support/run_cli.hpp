@@ -42,7 +42,8 @@ CliResult run_cli_signalled_when(const std::vector<std::string>& args, const std
 CliResult run_program(const std::vector<std::string>& command, const std::filesystem::path& cwd = {});
 
 /// run_cli_signalled_when for any command line.
-CliResult run_program_signalled_when(const std::vector<std::string>& command, const std::function<bool()>& ready,
+CliResult run_program_signalled_when(const std::vector<std::string>& command,
+                                     const std::function<bool()>& ready,
                                      const std::function<void()>& while_running, int signal,
                                      double* seconds_to_exit = nullptr,
                                      std::chrono::seconds timeout = std::chrono::seconds(120));
