@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string_view>
+#include <unordered_map>
 
 #include "core/assert.hpp"
 #include "core/error.hpp"
@@ -111,7 +113,7 @@ std::uint32_t KnowledgeBase::add_source(const std::string& run) {
     return static_cast<std::uint32_t>(sources_.size() - 1);
 }
 
-void KnowledgeBase::check_segments(Segments segments, Finite finite) const {
+void KnowledgeBase::check_segments(Segments segments) const {
     if (segments.dim != params_.dim()) {
         throw DataError(concat("segments have ", segments.dim, " values, the knowledge base uses ",
                                params_.dim(), " (", params_.segment_width, " steps x ", params_.channels,
@@ -121,7 +123,7 @@ void KnowledgeBase::check_segments(Segments segments, Finite finite) const {
         throw DataError(concat("segments: ", segments.values.size(), " values is not a whole number of segments of ",
                                segments.dim, " values"));
     }
-    if (finite == Finite::check) require_finite(segments.values, segments.dim);
+    require_finite(segments.values, segments.dim);
 }
 
 void KnowledgeBase::insert(const float* segment, const SegmentRecord& record) {
@@ -207,28 +209,49 @@ bool KnowledgeBase::batch_search(Segments segments) const {
 }
 
 std::vector<SegmentMatch> KnowledgeBase::matches_of(Segments segments) const {
-    std::vector<SegmentMatch> out;
-    out.reserve(segments.size());
+    // a robot standing still, pushing a wall or circling shows the same
+    // segment again and again: each distinct one (bit for bit) is searched
+    // once, which leaves every match as it was
+    const std::size_t dim = params_.dim();
+    std::vector<std::size_t> slot(segments.size());
+    std::vector<float> distinct;
+    distinct.reserve(segments.values.size());
+    std::unordered_map<std::string_view, std::size_t> seen;
+    seen.reserve(segments.size());
+    for (std::size_t i = 0; i < segments.size(); ++i) {
+        const auto* bytes = reinterpret_cast<const char*>(segments.values.data() + i * dim);
+        const auto [it, fresh] = seen.try_emplace(std::string_view(bytes, dim * sizeof(float)), seen.size());
+        if (fresh)
+            distinct.insert(distinct.end(), segments.values.data() + i * dim,
+                            segments.values.data() + (i + 1) * dim);
+        slot[i] = it->second;
+    }
+
+    std::vector<SegmentMatch> found;
+    found.reserve(seen.size());
     if (batch_search(segments)) {
         // the whole policy at once: one pass over the KB (brute force) or
         // interleaved tree walks
-        std::vector<std::optional<Neighbour>> near(segments.size());
-        index_.nearest_within_batch(values_, segments.values.data(), segments.size(), params_.delta, near);
+        std::vector<std::optional<Neighbour>> near(seen.size());
+        index_.nearest_within_batch(values_, distinct.data(), seen.size(), params_.delta, near);
         for (const auto& n : near) {
-            out.push_back(n ? SegmentMatch{n->id, std::sqrt(n->squared_distance), records_[n->id].average()}
-                            : SegmentMatch{});
+            found.push_back(n ? SegmentMatch{n->id, std::sqrt(n->squared_distance), records_[n->id].average()}
+                              : SegmentMatch{});
         }
-        return out;
+    } else {
+        for (std::size_t k = 0; k < seen.size(); ++k) found.push_back(match_of(distinct.data() + k * dim));
     }
-    for (std::size_t i = 0; i < segments.size(); ++i) out.push_back(match_of(segments.values.data() + i * params_.dim()));
+
+    std::vector<SegmentMatch> out;
+    out.reserve(segments.size());
+    for (const std::size_t k : slot) out.push_back(found[k]);
     return out;
 }
 
 Lookup KnowledgeBase::lookup(Segments segments) const {
-    // a whole policy within delta goes to the index's batch search, which
-    // refuses non-finite values itself (from the block means it computes of
-    // every query anyway) with the same message: the values are read once
-    check_segments(segments, batch_search(segments) ? Finite::index_checks : Finite::check);
+    // checked here rather than by the index's batch search, which sees only
+    // the distinct segments and would name them by their place among those
+    check_segments(segments);
     Lookup result;
     result.segments = matches_of(segments);
     // a segment without a match contributes 0, so r_max is the largest of

@@ -183,14 +183,12 @@ public:
     const SegmentIndex& index() const { return index_; }
 
 private:
-    // whether check_segments() scans the values for NaN and infinity, or
-    // leaves that to the index's batch search (which throws the same error)
-    enum class Finite { check, index_checks };
-    void check_segments(Segments segments, Finite finite = Finite::check) const;
+    // throws DataError on a wrong width or a non-finite value
+    void check_segments(Segments segments) const;
     void insert(const float* segment, const SegmentRecord& record);
     SegmentMatch match_of(const float* segment) const;
     // true when matches_of() sends the policy to the index's batch search
-    // (within delta, more than one segment), which checks finiteness itself
+    // (within delta, more than one segment)
     bool batch_search(Segments segments) const;
     std::vector<SegmentMatch> matches_of(Segments segments) const;
     // merge() without the parameter check

@@ -142,6 +142,32 @@ TEST_CASE("ties and distances exactly at delta follow the documented rule", "[kb
     }
 }
 
+TEST_CASE("a policy that repeats segments gets every repeat matched as the oracle says", "[kb][observe]") {
+    // lookups search each distinct segment once: repeats of a segment, far
+    // apart or in a row, and a policy of one segment shown 40 times must
+    // still get the oracle's match at every position, on the tree and on
+    // brute force (a small KB)
+    for (const std::size_t n : {1500u, 12u}) {
+        CAPTURE(n);
+        const std::size_t dim = 60;
+        const double delta = 0.35 * std::sqrt(static_cast<double>(dim));
+        Rng rng(23, n, 0, Purpose::test);
+        kb::KnowledgeBase kb(params_of(4, 15, delta));
+        kbtest::OracleKb oracle{dim, delta, {}, {}, {}};
+        observe_both(kb, oracle, kbtest::clustered_segments(rng, n, dim, 12, 0.3), 4, rng);
+        const std::vector<float> distinct = kbtest::clustered_segments(rng, 30, dim, 12, 0.4);
+        std::vector<float> queries;
+        for (const std::size_t i : {0u, 1u, 1u, 2u, 0u, 3u, 29u, 1u, 3u, 3u, 17u, 0u}) {
+            queries.insert(queries.end(), distinct.begin() + i * dim, distinct.begin() + (i + 1) * dim);
+        }
+        check_lookups(kb, oracle, queries);
+        std::vector<float> still;
+        for (int i = 0; i < 40; ++i)
+            still.insert(still.end(), distinct.begin() + 5 * dim, distinct.begin() + 6 * dim);
+        check_lookups(kb, oracle, still);
+    }
+}
+
 TEST_CASE("a segment exactly delta away is inserted and a closer one is credited", "[kb][observe][ties]") {
     // by hand in 2-D with delta 1.5: (1.5, 0) is at distance exactly 1.5 from
     // (0, 0), so not closer than delta; (1.25, 0) is
