@@ -22,6 +22,7 @@ struct StatsFlags {
     std::string tests_csv;
     bool force = false;
     bool available = false;
+    int signal_window = 10;
 };
 
 template <typename Writer>
@@ -39,7 +40,12 @@ void add_stats_command(CLI::App& app) {
     cmd->add_option("--generation", flags->generation, "Generation to compare at (default: the target budget)");
     cmd->add_option("--threshold", flags->threshold, "Success: best-of-run reward >= this (default 0.5)");
     cmd->add_option("--csv", flags->csv, "Write successful runs per treatment per generation (Fig. 6's data)");
-    cmd->add_option("--runs-csv", flags->runs_csv, "Write one row per run: treatment,seed,generation,best_reward,success");
+    cmd->add_option("--signal-window", flags->signal_window,
+                    "Generations up to --generation whose policies' r_max is averaged (default 10)");
+    cmd->add_option(
+        "--runs-csv", flags->runs_csv,
+        "Write one row per run: treatment,seed,generation,best_reward,success,policies,ball_policies,"
+        "mean_r_max");
     cmd->add_option("--tests-csv", flags->tests_csv,
                     "Write one row per pair: treatment_a,treatment_b,n_a,n_b,u,p,p_holm,a12");
     cmd->add_flag("--force", flags->force, "Replace existing CSV files");
@@ -59,7 +65,8 @@ void add_stats_command(CLI::App& app) {
         }
         std::optional<int> generation;
         if (flags->generation != -1) generation = flags->generation;
-        const auto stats = exp::campaign_stats(flags->dir, generation, flags->threshold, flags->available);
+        const auto stats = exp::campaign_stats(flags->dir, generation, flags->threshold, flags->available,
+                                               flags->signal_window);
         exp::write_text(std::cout, stats);
         write_csv(flags->csv, flags->force, [&](std::ostream& out) { exp::write_success_csv(out, stats); });
         write_csv(flags->runs_csv, flags->force, [&](std::ostream& out) { exp::write_runs_csv(out, stats); });

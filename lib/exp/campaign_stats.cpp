@@ -46,6 +46,20 @@ RunCurve read_curve(const fs::path& dir, const PlannedRun& run) {
     return curve;
 }
 
+// the run's policies, those with a ball, and its mean r_max over the signal window
+void read_signal(const fs::path& dir, RunCurve& curve, int generation, int window) {
+    auto connection = db::open_database(dir / curve.file, db::OpenMode::read_only);
+    const RunRecord record = load_run(connection);
+    auto rows = connection.prepare(db::sql("run/select_signal.sql"));
+    rows.bind(":run_id", record.id);
+    rows.bind(":from", static_cast<std::int64_t>(generation - window + 1));
+    rows.bind(":to", static_cast<std::int64_t>(generation));
+    if (!rows.step()) return;
+    curve.policies = rows.column_int(0);
+    curve.ball_policies = rows.column_int(1);
+    if (!rows.is_null(2)) curve.mean_r_max = rows.column_double(2);
+}
+
 std::string number(double value) {
     char buffer[32];
     std::snprintf(buffer, sizeof buffer, "%.17g", value);
@@ -61,16 +75,18 @@ std::string short_number(double value) {
 }  // namespace
 
 CampaignStats campaign_stats(const fs::path& dir, std::optional<int> generation, double threshold,
-                             bool available_only) {
+                             bool available_only, int signal_window) {
     if (!(threshold >= 0.0 && threshold <= 1.0)) {
         throw ConfigError(concat("--threshold must be within [0, 1], got ", threshold));
     }
     if (generation && *generation < 0) throw ConfigError(concat("--generation must be >= 0, got ", *generation));
+    if (signal_window < 1) throw ConfigError(concat("--signal-window must be >= 1, got ", signal_window));
     const CampaignIndex index = load_campaign(dir);
 
     CampaignStats stats;
     stats.dir = dir.string();
     stats.threshold = threshold;
+    stats.signal_window = signal_window;
     for (const auto& indexed : index.runs) {
         const PlannedRun& run = indexed.run;
         if (run.step != CampaignStep::target) continue;
@@ -95,7 +111,9 @@ CampaignStats campaign_stats(const fs::path& dir, std::optional<int> generation,
         auto it = std::find_if(stats.treatments.begin(), stats.treatments.end(),
                                [&](const TreatmentResult& t) { return t.treatment == run.treatment; });
         if (it == stats.treatments.end()) {
-            stats.treatments.push_back({run.treatment, {}, {}, 0});
+            TreatmentResult fresh;
+            fresh.treatment = run.treatment;
+            stats.treatments.push_back(fresh);
             it = stats.treatments.end() - 1;
         }
     }
@@ -106,10 +124,21 @@ CampaignStats campaign_stats(const fs::path& dir, std::optional<int> generation,
     stats.generation = *generation;
     const auto g = static_cast<std::size_t>(stats.generation);
 
+    for (auto& run : stats.runs) read_signal(dir, run, stats.generation, signal_window);
     for (auto& t : stats.treatments) {
+        double r_max_sum = 0;
+        std::size_t with_r_max = 0;
         for (const auto& run : stats.runs) {
-            if (run.treatment == t.treatment) t.best.push_back(run.best[g]);
+            if (run.treatment != t.treatment) continue;
+            t.best.push_back(run.best[g]);
+            t.policies += run.policies;
+            t.ball_policies += run.ball_policies;
+            if (run.mean_r_max) {
+                r_max_sum += *run.mean_r_max;
+                ++with_r_max;
+            }
         }
+        if (with_r_max > 0) t.mean_r_max = r_max_sum / static_cast<double>(with_r_max);
         t.summary = stats::summarize(t.best);
         t.successes = stats::count_at_least(t.best, threshold);
     }
@@ -165,6 +194,19 @@ void write_text(std::ostream& out, const CampaignStats& stats) {
         out << line;
     }
 
+    out << "\nshaping signal (r_max: mean over runs of the mean r_max of generations "
+        << std::max(0, stats.generation - stats.signal_window + 1) << "-" << stats.generation
+        << "), and policies that collected a ball (generations 0-" << stats.generation << ")\n";
+    std::snprintf(line, sizeof line, "%-10s %8s %12s %10s\n", "treatment", "r_max", "policies", "with_ball");
+    out << line;
+    for (const auto& t : stats.treatments) {
+        const std::string r_max = t.mean_r_max ? short_number(*t.mean_r_max) : "-";
+        std::snprintf(line, sizeof line, "%-10s %8s %12lld %10lld\n",
+                      std::string(to_string(t.treatment)).c_str(), r_max.c_str(),
+                      static_cast<long long>(t.policies), static_cast<long long>(t.ball_policies));
+        out << line;
+    }
+
     out << "\nsuccessful runs by generation\n";
     std::snprintf(line, sizeof line, "%-10s", "generation");
     out << line;
@@ -214,11 +256,12 @@ void write_success_csv(std::ostream& out, const CampaignStats& stats) {
 }
 
 void write_runs_csv(std::ostream& out, const CampaignStats& stats) {
-    out << "treatment,seed,generation,best_reward,success\n";
+    out << "treatment,seed,generation,best_reward,success,policies,ball_policies,mean_r_max\n";
     const auto g = static_cast<std::size_t>(stats.generation);
     for (const auto& run : stats.runs) {
-        out << to_string(run.treatment) << "," << run.seed << "," << stats.generation << "," << number(run.best[g])
-            << "," << (run.best[g] >= stats.threshold ? 1 : 0) << "\n";
+        out << to_string(run.treatment) << "," << run.seed << "," << stats.generation << ","
+            << number(run.best[g]) << "," << (run.best[g] >= stats.threshold ? 1 : 0) << "," << run.policies
+            << "," << run.ball_policies << "," << (run.mean_r_max ? number(*run.mean_r_max) : "") << "\n";
     }
 }
 

@@ -21,6 +21,11 @@ struct RunCurve {
     /// Best-of-run task reward up to each generation (index = generation):
     /// the running maximum of the generation table's best_reward.
     std::vector<double> best;
+    std::int64_t policies = 0;       ///< policies evaluated up to the chosen generation
+    std::int64_t ball_policies = 0;  ///< of those, the ones that collected at least one ball
+    /// Mean r_max of the policies evaluated in the signal window (the last
+    /// `signal_window` generations up to the chosen one); absent without a KB.
+    std::optional<double> mean_r_max;
 };
 
 /// One treatment at the chosen generation.
@@ -29,6 +34,10 @@ struct TreatmentResult {
     std::vector<double> best;   ///< best-of-run reward of each run, in seed order
     stats::Summary summary;     ///< of `best`
     std::size_t successes = 0;  ///< runs with best >= threshold
+    std::int64_t policies = 0;  ///< summed over the runs
+    std::int64_t ball_policies = 0;  ///< summed over the runs
+    /// Mean over the runs of their mean_r_max; absent without a KB.
+    std::optional<double> mean_r_max;
 };
 
 /// Mann-Whitney U between two treatments at the chosen generation.
@@ -46,6 +55,7 @@ struct CampaignStats {
     std::string dir;
     int generation = 0;
     double threshold = 0.5;
+    int signal_window = 10;
     std::vector<RunCurve> runs;                 ///< target runs, in campaign order
     std::vector<TreatmentResult> treatments;    ///< in campaign order
     /// successes[g][t]: runs of treatment t that succeeded by generation g (0..generation).
@@ -64,16 +74,20 @@ struct CampaignStats {
 /// campaign (seed or treatment differ), or has not reached `generation`;
 /// DatabaseError for an unreadable file. With `available_only` (a campaign
 /// still running), runs that are missing or short of `generation` are left
-/// out and listed in `skipped` instead; DataError if no run is left.
+/// out and listed in `skipped` instead; DataError if no run is left. The
+/// shaping signal is the mean r_max of the last `signal_window` generations
+/// up to `generation` (ConfigError below 1).
 CampaignStats campaign_stats(const std::filesystem::path& dir, std::optional<int> generation,
-                             double threshold, bool available_only = false);
+                             double threshold, bool available_only = false, int signal_window = 10);
 
-/// The text report: per-treatment summary, success counts along generations,
-/// and the pairwise tests.
+/// The text report: per-treatment summary, the shaping signal and the
+/// policies that collected a ball, success counts along generations, and the
+/// pairwise tests.
 void write_text(std::ostream& out, const CampaignStats& stats);
 /// Success counts per generation: `generation,<treatment>...`.
 void write_success_csv(std::ostream& out, const CampaignStats& stats);
-/// One row per run: `treatment,seed,generation,best_reward,success`.
+/// One row per run: `treatment,seed,generation,best_reward,success,policies,
+/// ball_policies,mean_r_max` (mean_r_max empty without a KB).
 void write_runs_csv(std::ostream& out, const CampaignStats& stats);
 /// One row per pair: `treatment_a,treatment_b,n_a,n_b,u,p,p_holm,a12`.
 void write_tests_csv(std::ostream& out, const CampaignStats& stats);

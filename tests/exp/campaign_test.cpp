@@ -88,6 +88,23 @@ void set_hand_bests(const std::filesystem::path& camp) {
     }
 }
 
+// r_max by hand for the sum runs (seed 1: 0.875 before generation 2, 0.25 in
+// it; seed 2: 0.75 throughout), and 3 ball-collecting policies in mo seed 1
+void set_hand_signal(const std::filesystem::path& camp) {
+    {
+        auto connection = db::open_database(camp / "target" / "sum" / "seed-1.db", db::OpenMode::read_write);
+        connection.exec("UPDATE individual SET shaping = CASE WHEN generation = 2 THEN 0.25 ELSE 0.875 END");
+    }
+    {
+        auto connection = db::open_database(camp / "target" / "sum" / "seed-2.db", db::OpenMode::read_write);
+        connection.exec("UPDATE individual SET shaping = 0.75");
+    }
+    auto connection = db::open_database(camp / "target" / "mo" / "seed-1.db", db::OpenMode::read_write);
+    connection.exec(
+        "UPDATE individual SET balls = CASE WHEN id IN (SELECT id FROM individual ORDER BY id LIMIT 3) "
+        "THEN 2 ELSE 0 END");
+}
+
 }  // namespace
 
 TEST_CASE("campaign runs every step; each run equals the same evolve run alone", "[exp][campaign][cli]") {
@@ -184,6 +201,7 @@ TEST_CASE("stats on a campaign: success counts, quartiles and tests by hand", "[
     REQUIRE(campaign(dir, "camp", {"--jobs", "2"}).exit_code == 0);
     const auto camp = dir / "camp";
     set_hand_bests(camp);
+    set_hand_signal(camp);
     const auto result = test::run_cli({"stats", camp.string(), "--runs-csv", (dir / "runs.csv").string(),
                                        "--tests-csv", (dir / "tests.csv").string(), "--csv",
                                        (dir / "success.csv").string()});
@@ -191,8 +209,27 @@ TEST_CASE("stats on a campaign: success counts, quartiles and tests by hand", "[
     REQUIRE(result.exit_code == 0);
 
     const auto runs = test::read_file(dir / "runs.csv");
-    CHECK_THAT(runs, Contains("treatment,seed,generation,best_reward,success\n"));
-    CHECK_THAT(runs, Contains("none,1,2,0.125,0\n") && Contains("sum,2,2,0.75,1\n") && Contains("mo-rand,2,2,0.5,1\n"));
+    CHECK_THAT(runs,
+               Contains("treatment,seed,generation,best_reward,success,policies,ball_policies,mean_r_max\n"));
+    // population 8: generation 0 evaluates 2 x 8 (ea.initial_multiplier), generations 1 and 2 eight
+    // children each, so 32 policies; mean r_max over generations 0-2 (the window of 10 reaches
+    // back to 0): sum seed 1 (24 x 0.875 + 8 x 0.25) / 32 = 0.71875, seed 2 0.75
+    CHECK_THAT(runs, Contains("none,1,2,0.125,0,32,0,\n") && Contains("sum,2,2,0.75,1,32,0,0.75\n") &&
+                         Contains("mo-rand,2,2,0.5,1,32,0,"));
+    CHECK_THAT(runs, Contains("sum,1,2,0.625,1,32,0,0.71875\n") && Contains("mo,1,2,0.375,0,32,3,"));
+    // the text: sum's r_max is the mean of its runs' (0.71875 + 0.75) / 2 = 0.734375 (%.4g: 0.7344),
+    // none has no KB, mo's 3 ball-collecting policies are counted
+    CHECK_THAT(result.out, Contains("none              -           64          0\n") &&
+                               Contains("sum          0.7344           64          0\n") &&
+                               Contains("mo  ") && Contains("64          3\n"));
+    // --signal-window 1: generation 2 alone, so sum's runs give 0.25 and 0.75
+    const auto last = test::run_cli({"stats", camp.string(), "--signal-window", "1"});
+    REQUIRE(last.exit_code == 0);
+    CHECK_THAT(last.out,
+               Contains("mean r_max of generations 2-2") && Contains("sum             0.5           64"));
+    const auto bad = test::run_cli({"stats", camp.string(), "--signal-window", "0"});
+    CHECK(bad.exit_code == 2);
+    CHECK_THAT(bad.err, Contains("--signal-window must be >= 1, got 0"));
     // success (>= 0.5) by generation: every generation holds the same best here
     CHECK(test::read_file(dir / "success.csv") ==
           "generation,none,sum,mo,sum-rand,mo-rand\n0,0,2,1,0,1\n1,0,2,1,0,1\n2,0,2,1,0,1\n");
@@ -236,7 +273,7 @@ TEST_CASE("stats --available compares the runs that have reached the generation 
                                Contains("target/sum/seed-1.db") && Contains("target/mo/seed-2.db"));
     const auto runs = test::read_file(dir / "runs.csv");
     CHECK(std::count(runs.begin(), runs.end(), '\n') == 1 + 8);
-    CHECK_THAT(runs, Contains("sum,2,2,0.75,1\n") && Contains("mo,1,2,0.375,0\n"));
+    CHECK_THAT(runs, Contains("sum,2,2,0.75,1,32,") && Contains("mo,1,2,0.375,0,32,"));
     CHECK_THAT(runs, !Contains("sum,1,") && !Contains("mo,2,"));
     // none {0.125, 0.25} vs sum {0.75}: U = 0, exact p = 2 x 1/C(3,1) = 2/3
     const auto tests = test::read_file(dir / "tests.csv");

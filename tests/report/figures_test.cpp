@@ -42,7 +42,12 @@ exp::CampaignStats hand_stats() {
                                                   {0, 0.05, 0.05, 0.1, 0.1}, {0, 0, 0, 0, 0.05}};
     for (std::size_t r = 0; r < curves.size(); ++r) {
         const auto t = r < 3 ? exp::Treatment::sum : exp::Treatment::none;
-        stats.runs.push_back({t, r % 3 + 1, "f", curves[r]});
+        exp::RunCurve run;
+        run.treatment = t;
+        run.seed = r % 3 + 1;
+        run.file = "f";
+        run.best = curves[r];
+        stats.runs.push_back(run);
     }
     for (const auto t : {exp::Treatment::sum, exp::Treatment::none}) {
         exp::TreatmentResult result;
