@@ -355,21 +355,18 @@ json KbService::runs() const {
     for (const auto& file : run_files()) {
         auto connection = db::open_database(file.path, db::OpenMode::read_only);
         const auto run = exp::load_run(connection);
-        const auto best = connection.query_int(db::sql("run/count_generations.sql"));
-        json row{{"id", file.id},
-                 {"step", run.task},
-                 {"treatment", run.treatment},
-                 {"seed", run.seed},
-                 {"file", file.path.filename().string()},
-                 {"generations", run.generations},
-                 {"status", exp::to_string(run.status)},
-                 {"generations_done", run.generations_done},
-                 {"best_reward", json()}};
-        if (best.value_or(0) > 0) {
-            auto select = connection.prepare(db::sql("run/max_best_reward.sql"));
-            if (select.step()) row["best_reward"] = select.column_double(0);
-        }
-        out.push_back(row);
+        // max() is NULL for a run with no generation yet
+        auto best = connection.prepare(db::sql("run/max_best_reward.sql"));
+        const bool has_best = best.step() && !best.is_null(0);
+        out.push_back({{"id", file.id},
+                       {"step", run.task},
+                       {"treatment", run.treatment},
+                       {"seed", run.seed},
+                       {"file", file.path.filename().string()},
+                       {"generations", run.generations},
+                       {"status", exp::to_string(run.status)},
+                       {"generations_done", run.generations_done},
+                       {"best_reward", has_best ? json(best.column_double(0)) : json()}});
     }
     return out;
 }
