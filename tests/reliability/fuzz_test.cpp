@@ -3,19 +3,10 @@
 // 70, a signal or a hang), and no input file changes by a byte.
 
 #include <catch2/catch.hpp>
-
-#include <fcntl.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
-#include <chrono>
-#include <csignal>
 #include <filesystem>
 #include <map>
-#include <random>
-#include <thread>
-
 #include <nlohmann/json.hpp>
+#include <random>
 
 #include "support/db_files.hpp"
 #include "support/run_cli.hpp"
@@ -25,48 +16,6 @@ using namespace stepstone;
 namespace fs = std::filesystem;
 
 namespace {
-
-struct Outcome {
-    int exit_code = -1;  ///< -1: still running at the deadline (killed)
-    std::string err;
-};
-
-Outcome run_bounded(const std::vector<std::string>& args, const fs::path& err_path, double seconds) {
-    std::vector<std::string> storage{STEPSTONE_BINARY};
-    storage.insert(storage.end(), args.begin(), args.end());
-    std::vector<char*> argv;
-    for (auto& arg : storage) argv.push_back(arg.data());
-    argv.push_back(nullptr);
-    const pid_t pid = ::fork();
-    if (pid < 0) throw std::runtime_error("fork failed");
-    if (pid == 0) {
-        const int in = ::open("/dev/null", O_RDONLY);
-        const int out = ::open("/dev/null", O_WRONLY);
-        const int err = ::open(err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-        ::dup2(in, 0);
-        ::dup2(out, 1);
-        ::dup2(err, 2);
-        ::execv(argv[0], argv.data());
-        ::_exit(127);
-    }
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
-    int status = 0;
-    Outcome outcome;
-    while (true) {
-        if (::waitpid(pid, &status, WNOHANG) == pid) {
-            outcome.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-            break;
-        }
-        if (std::chrono::steady_clock::now() > deadline) {
-            ::kill(pid, SIGKILL);
-            ::waitpid(pid, &status, 0);
-            break;
-        }
-        std::this_thread::sleep_for(std::chrono::milliseconds(2));
-    }
-    outcome.err = test::read_file(err_path);
-    return outcome;
-}
 
 /// Runs the cases and checks the contract; counts the cases that had to fail.
 class Fuzzer {
@@ -79,7 +28,7 @@ public:
                bool may_succeed = false) {
         std::map<fs::path, std::string> before;
         for (const auto& input : inputs) before[input] = fs::exists(input) && fs::is_regular_file(input) ? test::read_file(input) : "";
-        const Outcome outcome = run_bounded(args, scratch_ / "err", 20.0);
+        const test::CliResult outcome = test::run_cli_within(args, 20.0);
         ++cases_;
         if (outcome.exit_code != 0 || !may_succeed) ++bad_cases_;
         std::string problem;

@@ -3,7 +3,6 @@
 // PRAGMA integrity_check after each kill; readers during a write never see
 // "database is locked" nor a half-written generation.
 
-#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -235,25 +234,12 @@ TEST_CASE("5 campaigns killed with SIGKILL at seeded random moments resume to th
 
 namespace {
 
-// runs the binary and returns its peak resident set size in KiB (wait4's ru_maxrss)
+// runs the binary to a successful end and returns its peak resident set size in KiB
 long peak_rss_kib(const std::vector<std::string>& args) {
-    std::vector<std::string> storage{STEPSTONE_BINARY};
-    storage.insert(storage.end(), args.begin(), args.end());
-    std::vector<char*> argv;
-    for (auto& arg : storage) argv.push_back(arg.data());
-    argv.push_back(nullptr);
-    const pid_t pid = ::fork();
-    REQUIRE(pid >= 0);
-    if (pid == 0) {
-        ::execv(argv[0], argv.data());
-        ::_exit(127);
-    }
-    int status = 0;
-    struct rusage usage {};
-    ::wait4(pid, &status, 0, &usage);
-    REQUIRE(WIFEXITED(status));
-    REQUIRE(WEXITSTATUS(status) == 0);
-    return usage.ru_maxrss;
+    const auto result = test::run_cli(args);
+    INFO(result.err);
+    REQUIRE(result.exit_code == 0);
+    return result.peak_rss_kib;
 }
 
 }  // namespace

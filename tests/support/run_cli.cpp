@@ -1,10 +1,12 @@
 #include "support/run_cli.hpp"
 
 #include <fcntl.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <csignal>
+#include <optional>
 #include <stdexcept>
 #include <thread>
 
@@ -74,12 +76,31 @@ bool wait_until(const std::function<bool()>& ready, std::chrono::seconds timeout
     return held;
 }
 
-// Reaps `pid`; the exit status (128 + signal if killed) and the captured output.
-CliResult reap(pid_t pid, const std::filesystem::path& out_path, const std::filesystem::path& err_path) {
+// Reaps `pid`; the exit status (128 + signal if killed), its peak memory and
+// the captured output. With `seconds`, a process still running then is
+// killed and gets exit code -1.
+CliResult reap(pid_t pid, const std::filesystem::path& out_path, const std::filesystem::path& err_path,
+               std::optional<double> seconds = std::nullopt) {
     int status = 0;
-    ::waitpid(pid, &status, 0);
+    struct rusage usage {};
+    bool bounded_out = false;
+    if (seconds) {
+        const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(*seconds);
+        while (::wait4(pid, &status, WNOHANG, &usage) != pid) {
+            if (std::chrono::steady_clock::now() > deadline) {
+                ::kill(pid, SIGKILL);
+                ::wait4(pid, &status, 0, &usage);
+                bounded_out = true;
+                break;
+            }
+            std::this_thread::sleep_for(std::chrono::milliseconds(2));
+        }
+    } else {
+        ::wait4(pid, &status, 0, &usage);
+    }
     CliResult result;
-    result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    result.exit_code = bounded_out ? -1 : WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    result.peak_rss_kib = usage.ru_maxrss;
     if (!out_path.empty()) result.out = read_file(out_path);
     if (!err_path.empty()) result.err = read_file(err_path);
     return result;
@@ -89,6 +110,12 @@ CliResult reap(pid_t pid, const std::filesystem::path& out_path, const std::file
 
 CliResult run_cli(const std::vector<std::string>& args, const std::filesystem::path& cwd) {
     return run_program(Argv(args).storage, cwd);
+}
+
+CliResult run_cli_within(const std::vector<std::string>& args, double seconds) {
+    TempDir capture;
+    const pid_t pid = spawn(Argv(args).storage, capture / "out", capture / "err");
+    return reap(pid, capture / "out", capture / "err", seconds);
 }
 
 CliResult run_program(const std::vector<std::string>& command, const std::filesystem::path& cwd) {

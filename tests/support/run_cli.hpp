@@ -10,9 +10,11 @@ namespace stepstone::test {
 
 /// What one run of the real stepstone binary did.
 struct CliResult {
-    int exit_code = -1;  ///< the exit status, or 128 + signal if killed
+    int exit_code =
+        -1;  ///< the exit status, or 128 + signal if killed (-1: killed at run_cli_within's bound)
     std::string out;
     std::string err;
+    long peak_rss_kib = 0;  ///< the process's peak resident set size (wait4's ru_maxrss)
     /// stderr split into lines (no empty last line).
     std::vector<std::string> err_lines() const;
 };
@@ -20,6 +22,10 @@ struct CliResult {
 /// Runs the stepstone binary built with the tests with `args`, in `cwd`
 /// (the current directory if empty), with no standard input.
 CliResult run_cli(const std::vector<std::string>& args, const std::filesystem::path& cwd = {});
+
+/// run_cli with a time bound: a run still going after `seconds` is killed
+/// (SIGKILL) and gets exit_code -1.
+CliResult run_cli_within(const std::vector<std::string>& args, double seconds);
 
 /// Starts the stepstone binary with `args` (output discarded), waits until
 /// `ready()` holds (polled every 5 ms, at most `timeout`), kills it with
