@@ -124,13 +124,23 @@ void add_statistics(Page& page, const exp::CampaignStats& stats, const std::vect
     for (const auto& t : stats.treatments) {
         const auto& s = t.summary;
         rows.push_back({std::string(exp::to_string(t.treatment)), std::to_string(s.n),
-                        concat(t.successes, " (", fixed(100.0 * static_cast<double>(t.successes) /
-                                                             static_cast<double>(std::max<std::size_t>(s.n, 1)), 0),
+                        concat(t.successes, " (",
+                               fixed(100.0 * static_cast<double>(t.successes) /
+                                         static_cast<double>(std::max<std::size_t>(s.n, 1)),
+                                     0),
                                " %)"),
-                        fixed(s.min, 4), fixed(s.q1, 4), fixed(s.median, 4), fixed(s.q3, 4), fixed(s.max, 4)});
+                        fixed(s.min, 4), fixed(s.q1, 4), fixed(s.median, 4), fixed(s.q3, 4), fixed(s.max, 4),
+                        t.mean_r_max ? fixed(*t.mean_r_max, 3) : std::string("-"),
+                        concat(t.ball_policies, " of ", t.policies)});
     }
-    page.table({"treatment", "runs", "successes", "min", "q1", "median", "q3", "max"}, rows,
-               "Best-of-run task reward per treatment (quartiles: R type 7)");
+    page.table(
+        {"treatment", "runs", "successes", "min", "q1", "median", "q3", "max",
+         concat("mean r_max, generations ", std::max(0, stats.generation - stats.signal_window + 1), "-",
+                stats.generation),
+         "policies with a ball"},
+        rows,
+        "Best-of-run task reward per treatment (quartiles: R type 7); the shaping signal, and the policies "
+        "that collected at least one ball");
     page.figure("successes", kFigureWidth, kFigureHeight,
                 "Successful runs per treatment along generations (the paper's Fig. 6).",
                 [&](Canvas& c) { draw_successes(c, stats); });
