@@ -130,17 +130,17 @@ void add_statistics(Page& page, const exp::CampaignStats& stats, const std::vect
                                      0),
                                " %)"),
                         fixed(s.min, 4), fixed(s.q1, 4), fixed(s.median, 4), fixed(s.q3, 4), fixed(s.max, 4),
-                        t.mean_r_max ? fixed(*t.mean_r_max, 3) : std::string("-"),
-                        concat(t.ball_policies, " of ", t.policies)});
+                        t.mean_r_max ? fixed(*t.mean_r_max, 3) : std::string("-"), std::to_string(t.policies),
+                        std::to_string(t.ball_policies)});
     }
     page.table(
         {"treatment", "runs", "successes", "min", "q1", "median", "q3", "max",
-         concat("mean r_max, generations ", std::max(0, stats.generation - stats.signal_window + 1), "-",
+         concat("r_max, gen. ", std::max(0, stats.generation - stats.signal_window + 1), "-",
                 stats.generation),
-         "policies with a ball"},
+         "policies", "with a ball"},
         rows,
-        "Best-of-run task reward per treatment (quartiles: R type 7); the shaping signal, and the policies "
-        "that collected at least one ball");
+        "Best-of-run task reward per treatment (quartiles: R type 7); the shaping signal (mean r_max of the "
+        "policies of the last generations); the policies evaluated, and those that collected a ball");
     page.figure("successes", kFigureWidth, kFigureHeight,
                 "Successful runs per treatment along generations (the paper's Fig. 6).",
                 [&](Canvas& c) { draw_successes(c, stats); });

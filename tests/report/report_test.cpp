@@ -99,8 +99,8 @@ TEST_CASE("a campaign's report compares the treatments and shows the KB and the 
     CHECK(html.find("sum vs none") != std::string::npos);
     CHECK(html.find("target/sum-rand/seed-2.db") != std::string::npos);
     // the treatments table ends with the shaping signal and the ball-collecting policies
-    CHECK(html.find("policies with a ball") != std::string::npos);
-    CHECK(html.find("mean r_max, generations ") != std::string::npos);
+    CHECK(html.find("<th>with a ball</th>") != std::string::npos);
+    CHECK(html.find("r_max, gen. ") != std::string::npos);
 }
 
 TEST_CASE("a report of a run with no generation, of a foreign file or into an unwritable place fails cleanly") {
