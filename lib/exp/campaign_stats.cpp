@@ -16,7 +16,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
-RunCurve read_curve(const fs::path& dir, const PlannedRun& run) {
+// The run's best-so-far rewards; when it has reached `generation`, also its
+// policies, those with a ball and its mean r_max from `signal_from` on.
+RunCurve read_curve(const fs::path& dir, const PlannedRun& run, int generation, int signal_from) {
     const fs::path path = dir / run.file;
     if (!fs::exists(path)) {
         throw DataError(concat(path.string(), ": missing (campaign.db lists it; stepstone campaign --resume runs it)"));
@@ -43,21 +45,17 @@ RunCurve read_curve(const fs::path& dir, const PlannedRun& run) {
         best = curve.best.empty() ? reward : std::max(best, reward);
         curve.best.push_back(best);
     }
+    if (static_cast<int>(curve.best.size()) <= generation) return curve;
+    auto signal = connection.prepare(db::sql("run/select_signal.sql"));
+    signal.bind(":run_id", record.id);
+    signal.bind(":from", static_cast<std::int64_t>(signal_from));
+    signal.bind(":to", static_cast<std::int64_t>(generation));
+    if (signal.step()) {
+        curve.policies = signal.column_int(0);
+        curve.ball_policies = signal.column_int(1);
+        if (!signal.is_null(2)) curve.mean_r_max = signal.column_double(2);
+    }
     return curve;
-}
-
-// the run's policies, those with a ball, and its mean r_max over the signal window
-void read_signal(const fs::path& dir, RunCurve& curve, int generation, int window) {
-    auto connection = db::open_database(dir / curve.file, db::OpenMode::read_only);
-    const RunRecord record = load_run(connection);
-    auto rows = connection.prepare(db::sql("run/select_signal.sql"));
-    rows.bind(":run_id", record.id);
-    rows.bind(":from", static_cast<std::int64_t>(generation - window + 1));
-    rows.bind(":to", static_cast<std::int64_t>(generation));
-    if (!rows.step()) return;
-    curve.policies = rows.column_int(0);
-    curve.ball_policies = rows.column_int(1);
-    if (!rows.is_null(2)) curve.mean_r_max = rows.column_double(2);
 }
 
 std::string number(double value) {
@@ -86,16 +84,16 @@ CampaignStats campaign_stats(const fs::path& dir, std::optional<int> generation,
     CampaignStats stats;
     stats.dir = dir.string();
     stats.threshold = threshold;
-    stats.signal_window = signal_window;
     for (const auto& indexed : index.runs) {
         const PlannedRun& run = indexed.run;
         if (run.step != CampaignStep::target) continue;
         if (!generation) generation = run.generations;
+        stats.signal_from = std::max(0, *generation - signal_window + 1);
         if (available_only && !fs::exists(dir / run.file)) {
             stats.skipped.push_back(run.file);
             continue;
         }
-        stats.runs.push_back(read_curve(dir, run));
+        stats.runs.push_back(read_curve(dir, run, *generation, stats.signal_from));
         const auto& curve = stats.runs.back();
         if (static_cast<int>(curve.best.size()) <= *generation && available_only) {
             stats.skipped.push_back(run.file);
@@ -124,7 +122,6 @@ CampaignStats campaign_stats(const fs::path& dir, std::optional<int> generation,
     stats.generation = *generation;
     const auto g = static_cast<std::size_t>(stats.generation);
 
-    for (auto& run : stats.runs) read_signal(dir, run, stats.generation, signal_window);
     for (auto& t : stats.treatments) {
         double r_max_sum = 0;
         std::size_t with_r_max = 0;
@@ -194,9 +191,9 @@ void write_text(std::ostream& out, const CampaignStats& stats) {
         out << line;
     }
 
-    out << "\nshaping signal (r_max: mean over runs of the mean r_max of generations "
-        << std::max(0, stats.generation - stats.signal_window + 1) << "-" << stats.generation
-        << "), and policies that collected a ball (generations 0-" << stats.generation << ")\n";
+    out << "\nshaping signal (r_max: mean over runs of the mean r_max of generations " << stats.signal_from
+        << "-" << stats.generation << "), and policies that collected a ball (generations 0-"
+        << stats.generation << ")\n";
     std::snprintf(line, sizeof line, "%-10s %8s %12s %10s\n", "treatment", "r_max", "policies", "with_ball");
     out << line;
     for (const auto& t : stats.treatments) {

@@ -23,8 +23,8 @@ struct RunCurve {
     std::vector<double> best;
     std::int64_t policies = 0;       ///< policies evaluated up to the chosen generation
     std::int64_t ball_policies = 0;  ///< of those, the ones that collected at least one ball
-    /// Mean r_max of the policies evaluated in the signal window (the last
-    /// `signal_window` generations up to the chosen one); absent without a KB.
+    /// Mean r_max of the policies evaluated in the signal window (generations
+    /// CampaignStats::signal_from to the chosen one); absent without a KB.
     std::optional<double> mean_r_max;
 };
 
@@ -55,7 +55,7 @@ struct CampaignStats {
     std::string dir;
     int generation = 0;
     double threshold = 0.5;
-    int signal_window = 10;
+    int signal_from = 0;  ///< first generation of the signal window (the last of it: `generation`)
     std::vector<RunCurve> runs;                 ///< target runs, in campaign order
     std::vector<TreatmentResult> treatments;    ///< in campaign order
     /// successes[g][t]: runs of treatment t that succeeded by generation g (0..generation).

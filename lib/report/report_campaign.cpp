@@ -135,9 +135,7 @@ void add_statistics(Page& page, const exp::CampaignStats& stats, const std::vect
     }
     page.table(
         {"treatment", "runs", "successes", "min", "q1", "median", "q3", "max",
-         concat("r_max, gen. ", std::max(0, stats.generation - stats.signal_window + 1), "-",
-                stats.generation),
-         "policies", "with a ball"},
+         concat("r_max, gen. ", stats.signal_from, "-", stats.generation), "policies", "with a ball"},
         rows,
         "Best-of-run task reward per treatment (quartiles: R type 7); the shaping signal (mean r_max of the "
         "policies of the last generations); the policies evaluated, and those that collected a ball");
