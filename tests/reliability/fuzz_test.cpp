@@ -3,6 +3,7 @@
 // 70, a signal or a hang), and no input file changes by a byte.
 
 #include <catch2/catch.hpp>
+#include <chrono>
 #include <filesystem>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -28,7 +29,7 @@ public:
                bool may_succeed = false) {
         std::map<fs::path, std::string> before;
         for (const auto& input : inputs) before[input] = fs::exists(input) && fs::is_regular_file(input) ? test::read_file(input) : "";
-        const test::CliResult outcome = test::run_cli_within(args, 20.0);
+        const test::CliResult outcome = test::run_cli_within(args, std::chrono::seconds(20));
         ++cases_;
         if (outcome.exit_code != 0 || !may_succeed) ++bad_cases_;
         std::string problem;

@@ -77,27 +77,17 @@ bool wait_until(const std::function<bool()>& ready, std::chrono::seconds timeout
 }
 
 // Reaps `pid`; the exit status (128 + signal if killed), its peak memory and
-// the captured output. With `seconds`, a process still running then is
+// the captured output. With `bound`, a process still running after it is
 // killed and gets exit code -1.
 CliResult reap(pid_t pid, const std::filesystem::path& out_path, const std::filesystem::path& err_path,
-               std::optional<double> seconds = std::nullopt) {
+               std::optional<std::chrono::seconds> bound = std::nullopt) {
     int status = 0;
     struct rusage usage {};
-    bool bounded_out = false;
-    if (seconds) {
-        const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(*seconds);
-        while (::wait4(pid, &status, WNOHANG, &usage) != pid) {
-            if (std::chrono::steady_clock::now() > deadline) {
-                ::kill(pid, SIGKILL);
-                ::wait4(pid, &status, 0, &usage);
-                bounded_out = true;
-                break;
-            }
-            std::this_thread::sleep_for(std::chrono::milliseconds(2));
-        }
-    } else {
-        ::wait4(pid, &status, 0, &usage);
-    }
+    const bool exited =
+        bound && wait_until([&] { return ::wait4(pid, &status, WNOHANG, &usage) == pid; }, *bound);
+    const bool bounded_out = bound && !exited;
+    if (bounded_out) ::kill(pid, SIGKILL);
+    if (!exited) ::wait4(pid, &status, 0, &usage);
     CliResult result;
     result.exit_code = bounded_out ? -1 : WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
     result.peak_rss_kib = usage.ru_maxrss;
@@ -112,10 +102,10 @@ CliResult run_cli(const std::vector<std::string>& args, const std::filesystem::p
     return run_program(Argv(args).storage, cwd);
 }
 
-CliResult run_cli_within(const std::vector<std::string>& args, double seconds) {
+CliResult run_cli_within(const std::vector<std::string>& args, std::chrono::seconds bound) {
     TempDir capture;
     const pid_t pid = spawn(Argv(args).storage, capture / "out", capture / "err");
-    return reap(pid, capture / "out", capture / "err", seconds);
+    return reap(pid, capture / "out", capture / "err", bound);
 }
 
 CliResult run_program(const std::vector<std::string>& command, const std::filesystem::path& cwd) {

@@ -23,9 +23,9 @@ struct CliResult {
 /// (the current directory if empty), with no standard input.
 CliResult run_cli(const std::vector<std::string>& args, const std::filesystem::path& cwd = {});
 
-/// run_cli with a time bound: a run still going after `seconds` is killed
+/// run_cli with a time bound: a run still going after `bound` is killed
 /// (SIGKILL) and gets exit_code -1.
-CliResult run_cli_within(const std::vector<std::string>& args, double seconds);
+CliResult run_cli_within(const std::vector<std::string>& args, std::chrono::seconds bound);
 
 /// Starts the stepstone binary with `args` (output discarded), waits until
 /// `ready()` holds (polled every 5 ms, at most `timeout`), kills it with
