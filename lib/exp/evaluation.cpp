@@ -25,6 +25,7 @@ Evaluation evaluate_genome(const sim::Task& task, const nn::Genome& genome, cons
     evaluation.balls = result.balls;
     evaluation.steps = result.steps_run;
     evaluation.nan_outputs = result.nan_outputs;
+    evaluation.milestones = result.milestones;
     evaluation.cells.reserve(cells.size());
     for (const auto& cell : cells) {
         evaluation.cells.push_back({static_cast<std::int16_t>(cell[0]), static_cast<std::int16_t>(cell[1])});

@@ -10,6 +10,7 @@
 #include "evo/edit_distance.hpp"
 #include "nn/dnn_config.hpp"
 #include "nn/genome.hpp"
+#include "sim/episode.hpp"
 #include "sim/task.hpp"
 
 namespace stepstone::exp {
@@ -20,6 +21,7 @@ struct Evaluation {
     int balls = 0;
     long steps = 0;          ///< simulation steps run
     int nan_outputs = 0;     ///< network outputs that were NaN (replaced by 0)
+    sim::Milestones milestones;  ///< steps of the task reached, all starts
     evo::Trajectory cells;   ///< diversity trajectory of the first start
     std::optional<double> r_max;  ///< shaping from a knowledge base, when the run has one
 };

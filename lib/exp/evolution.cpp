@@ -136,6 +136,7 @@ Member Evolution::make_member(nn::Genome genome, const Evaluation& evaluation, s
     m.reward = evaluation.reward;
     m.balls = evaluation.balls;
     m.steps = evaluation.steps;
+    m.milestones = evaluation.milestones;
     m.cells = evaluation.cells;
     m.r_max = evaluation.r_max;
     nan_outputs_ += evaluation.nan_outputs;
@@ -238,6 +239,7 @@ GenerationWrite Evolution::select(std::vector<Member> mixed, std::size_t first_n
         row.shaping = m.r_max;
         row.balls = m.balls;
         row.steps = m.steps;
+        row.milestones = m.milestones;
         write.individuals.push_back(row);
     }
 

@@ -28,6 +28,7 @@ struct Member {
     double reward = 0;
     int balls = 0;
     long steps = 0;
+    sim::Milestones milestones;  ///< written with its individual row only (not checkpointed)
     evo::Trajectory cells;
     std::optional<double> r_max;     ///< shaping from the run's shaping KB, absent without one
     std::vector<double> objectives;  ///< the objectives in the selection that kept it

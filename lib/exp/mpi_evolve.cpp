@@ -31,6 +31,9 @@ std::vector<nn::Genome> decode_genomes(const std::string& bytes) {
 
 void put_evaluation(ByteWriter& out, const Evaluation& e) {
     out.put(e.reward).put<std::int64_t>(e.balls).put<std::int64_t>(e.steps).put<std::int64_t>(e.nan_outputs);
+    const sim::Milestones& m = e.milestones;
+    out.put<std::int64_t>(m.presses).put<std::int64_t>(m.pickups).put<std::int64_t>(m.carry_steps);
+    out.put<std::int64_t>(m.basket_releases);
     out.put_span(std::span<const evo::GridCell>(e.cells));
     out.put<std::uint8_t>(e.r_max ? 1 : 0).put(e.r_max.value_or(0.0));
 }
@@ -41,6 +44,10 @@ Evaluation get_evaluation(ByteReader& in) {
     e.balls = static_cast<int>(in.get<std::int64_t>());
     e.steps = static_cast<long>(in.get<std::int64_t>());
     e.nan_outputs = static_cast<int>(in.get<std::int64_t>());
+    e.milestones.presses = static_cast<int>(in.get<std::int64_t>());
+    e.milestones.pickups = static_cast<int>(in.get<std::int64_t>());
+    e.milestones.carry_steps = static_cast<long>(in.get<std::int64_t>());
+    e.milestones.basket_releases = static_cast<int>(in.get<std::int64_t>());
     in.get_into(e.cells);
     const bool has_r_max = in.get<std::uint8_t>() != 0;
     const double r_max = in.get<double>();

@@ -67,7 +67,10 @@ void write_generation(db::Connection& connection, RunRecord& run, const Generati
               p_gen = individual.parameter(":generation"), p_parent = individual.parameter(":parent_id"),
               p_reward = individual.parameter(":reward"), p_fitness = individual.parameter(":fitness"),
               p_diversity = individual.parameter(":diversity"), p_shaping = individual.parameter(":shaping"),
-              p_balls = individual.parameter(":balls"), p_steps = individual.parameter(":steps");
+              p_balls = individual.parameter(":balls"), p_steps = individual.parameter(":steps"),
+              p_presses = individual.parameter(":presses"), p_pickups = individual.parameter(":pickups"),
+              p_carry = individual.parameter(":carry_steps"),
+              p_releases = individual.parameter(":basket_releases");
     for (const auto& row : write.individuals) {
         individual.reset();
         individual.bind(p_run, run.id).bind(p_id, row.id).bind(p_gen, row.generation);
@@ -78,6 +81,10 @@ void write_generation(db::Connection& connection, RunRecord& run, const Generati
             .bind(p_shaping, row.shaping)
             .bind(p_balls, row.balls)
             .bind(p_steps, static_cast<std::int64_t>(row.steps))
+            .bind(p_presses, row.milestones.presses)
+            .bind(p_pickups, row.milestones.pickups)
+            .bind(p_carry, static_cast<std::int64_t>(row.milestones.carry_steps))
+            .bind(p_releases, row.milestones.basket_releases)
             .run();
     }
 

@@ -9,6 +9,7 @@
 #include "db/connection.hpp"
 #include "exp/run_status.hpp"
 #include "kb/knowledge_base.hpp"
+#include "sim/episode.hpp"
 
 namespace stepstone::exp {
 
@@ -40,6 +41,7 @@ struct IndividualRow {
     std::optional<double> shaping;
     int balls = 0;
     long steps = 0;
+    sim::Milestones milestones;  ///< presses, pickups, carry_steps, basket_releases (schema 0005)
 };
 
 /// The statistics of one generation (`generation` table).

@@ -81,6 +81,7 @@ void Episode::act(float* outputs) {
 
     record(outputs);
     apply_action(outputs[2]);
+    milestones_.carry_steps += carrying_ ? 1 : 0;
 
     // the target task's switch re-arms when its timer has run out
     if (task_->spawn_ball_index() >= 0) {
@@ -123,7 +124,10 @@ void Episode::apply_action(float action) {
     if (action < 0.5f) {
         if (carrying_) {
             carrying_ = false;
-            if (collided_ && within(pose_, kBasketX, kBasketY, kBasketRadius)) ++balls_;
+            if (within(pose_, kBasketX, kBasketY, kBasketRadius)) {
+                ++milestones_.basket_releases;
+                if (collided_) ++balls_;
+            }
         }
         return;
     }
@@ -137,10 +141,12 @@ void Episode::apply_action(float action) {
         if (lights[i].kind == LightKind::ball) {
             carrying_ = true;
             state_.lit &= ~bit;
+            ++milestones_.pickups;
             return;
         }
         if (lights[i].kind == LightKind::switch_light) {
             state_.lit &= ~bit;
+            ++milestones_.presses;
             if (task_->spawn_ball_index() >= 0) {
                 state_.lit |= 1u << task_->spawn_ball_index();
                 switch_timer_ = kSwitchRearmSteps;
@@ -192,6 +198,7 @@ EpisodeResult Episode::finish() {
     result.steps_run = steps_run_;
     result.stopped_early = stopped_;
     result.nan_outputs = nan_outputs_;
+    result.milestones = milestones_;
     return result;
 }
 

@@ -37,6 +37,17 @@ struct Recording {
     std::vector<PoseSample>* trace = nullptr;
 };
 
+/// The steps of the task an evaluation reached, summed over its starts
+/// (docs/simulator.md: milestones). Balls collected are EpisodeResult::balls.
+struct Milestones {
+    int presses = 0;          ///< grabs at the lit switch (source: door opens; target: ball lit)
+    int pickups = 0;          ///< balls taken (a grab within reach of a lit ball)
+    long carry_steps = 0;     ///< steps whose action leaves the robot carrying a ball
+    int basket_releases = 0;  ///< releases with the centre within the basket radius, scoring or not
+
+    bool operator==(const Milestones&) const = default;
+};
+
 /// Outcome of one evaluation.
 struct EpisodeResult {
     double reward = 0.0;         ///< balls / Task::reward_divisor()
@@ -44,6 +55,7 @@ struct EpisodeResult {
     long steps_run = 0;          ///< steps run over all starts
     bool stopped_early = false;  ///< the stand-still rule ended the evaluation
     int nan_outputs = 0;         ///< controller outputs that were NaN (replaced by 0)
+    Milestones milestones;       ///< steps of the task reached, all starts
 };
 
 /// What an observer of run_episode sees after each step.
@@ -91,6 +103,8 @@ public:
     bool door_open() const { return state_.door_open; }
     std::uint32_t lit() const { return state_.lit; }
     int balls() const { return balls_; }
+    /// Milestones reached so far, all starts.
+    const Milestones& milestones() const { return milestones_; }
     int still_steps() const { return still_steps_; }
     bool stopped() const { return stopped_; }
     int start() const { return start_; }
@@ -122,6 +136,7 @@ private:
     bool stopped_ = false;
     int switch_timer_ = 0;
     int balls_ = 0;
+    Milestones milestones_;
     int still_steps_ = 0;
     int nan_outputs_ = 0;
     int start_ = -1;
