@@ -154,7 +154,7 @@ Connection open_database(const fs::path& path, OpenMode mode, bool allow_older, 
                                    " is newer than this program (", latest, ")"));
     }
     if (mode == OpenMode::read_only) {
-        if (info.schema_version < latest && !allow_older) {
+        if (info.schema_version < kOldestReadableVersion && !allow_older) {
             throw DatabaseError(concat(name, ": schema version ", info.schema_version, " is older than this program (",
                                        latest, "); run: stepstone db migrate ", path.string()));
         }

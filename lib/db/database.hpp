@@ -17,6 +17,12 @@ inline constexpr std::uint32_t kApplicationId = 0x53545053;
 /// in schema/.
 int latest_schema_version();
 
+/// The oldest schema version a read-only open accepts without `allow_older`:
+/// every later migration only adds nullable columns that read as NULL
+/// (0005: the individuals' milestones), so readers that check for them
+/// (has_milestones) read these files as they are.
+inline constexpr int kOldestReadableVersion = 4;
+
 /// One numbered migration of schema/.
 struct Migration {
     int version;
@@ -42,8 +48,8 @@ struct DatabaseInfo {
 /// that the file is SQLite, carries kApplicationId and has a schema version
 /// this program knows. OpenMode::create makes a new file (refused if `path`
 /// exists) and applies every migration; read_write migrates an older file;
-/// read_only refuses an older file (run `stepstone db migrate`) unless
-/// `allow_older` (for inspection). Throws
+/// read_only refuses a file older than kOldestReadableVersion (run
+/// `stepstone db migrate`) unless `allow_older` (for inspection). Throws
 /// DatabaseError with a one-line message naming the file; the file is then
 /// left byte for byte as it was.
 /// `label` names the file in messages (default: `path`).

@@ -4,6 +4,17 @@
 
 namespace stepstone::db {
 
+bool has_column(Connection& connection, std::string_view table, std::string_view column) {
+    auto columns = connection.prepare(sql("db/table_columns.sql"));
+    columns.bind(":table", std::string(table));
+    while (columns.step()) {
+        if (columns.column_text(0) == column) return true;
+    }
+    return false;
+}
+
+bool has_milestones(Connection& connection) { return has_column(connection, "individual", "presses"); }
+
 std::vector<TableCount> table_counts(Connection& connection) {
     std::vector<TableCount> tables;
     auto list = connection.prepare(sql("db/list_tables.sql"));

@@ -17,6 +17,12 @@ struct TableCount {
 /// Every user table (not sqlite_*) with its row count, sorted by name.
 std::vector<TableCount> table_counts(Connection& connection);
 
+/// Whether `table` of the database has a column named `column`.
+bool has_column(Connection& connection, std::string_view table, std::string_view column);
+/// Whether the file records milestones (schema 0005: presses, pickups,
+/// carry_steps, basket_releases in `individual`). Older files do not.
+bool has_milestones(Connection& connection);
+
 /// Value of `key` in the meta table, or "" when absent.
 std::string meta_value(Connection& connection, std::string_view key);
 /// Sets `key` in the meta table.

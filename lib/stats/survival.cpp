@@ -1,0 +1,131 @@
+#include "stats/survival.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include "core/error.hpp"
+#include "core/text.hpp"
+
+namespace stepstone::stats {
+
+namespace {
+
+void check(const char* function, const char* name, const Survival& s) {
+    if (s.time.empty()) throw DataError(concat(function, ": sample ", name, " is empty"));
+    if (s.time.size() != s.observed.size()) {
+        throw DataError(concat(function, ": sample ", name, " has ", s.time.size(), " times and ",
+                               s.observed.size(), " observed flags"));
+    }
+    for (std::size_t i = 0; i < s.time.size(); ++i) {
+        if (!std::isfinite(s.time[i])) throw DataError(concat(function, ": sample ", name, " time ", i, " is not finite"));
+        if (s.observed[i] != 0 && s.observed[i] != 1) {
+            throw DataError(concat(function, ": sample ", name, " observed flag ", i, " is ", s.observed[i],
+                                   ", not 0 or 1"));
+        }
+    }
+}
+
+// indices of the sample sorted by time
+std::vector<std::size_t> by_time(const Survival& s) {
+    std::vector<std::size_t> order(s.time.size());
+    std::iota(order.begin(), order.end(), std::size_t{0});
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t i, std::size_t j) { return s.time[i] < s.time[j]; });
+    return order;
+}
+
+}  // namespace
+
+double KaplanMeier::at(double t) const {
+    double s = 1.0;
+    for (const auto& step : steps) {
+        if (step.time > t) break;
+        s = step.survival;
+    }
+    return s;
+}
+
+std::size_t KaplanMeier::at_risk(double t) const {
+    for (const auto& step : steps) {
+        if (step.time >= t) return step.at_risk;
+    }
+    return 0;
+}
+
+KaplanMeier kaplan_meier(const Survival& sample) {
+    check("kaplan_meier", "", sample);
+    KaplanMeier km;
+    km.n = sample.time.size();
+    const auto order = by_time(sample);
+    std::size_t at_risk = km.n;
+    double survival = 1.0;
+    for (std::size_t k = 0; k < order.size();) {
+        KaplanMeierStep step;
+        step.time = sample.time[order[k]];
+        step.at_risk = at_risk;
+        for (; k < order.size() && sample.time[order[k]] == step.time; ++k) {
+            (sample.observed[order[k]] ? step.events : step.censored) += 1;
+        }
+        if (step.events > 0) {
+            survival *= 1.0 - static_cast<double>(step.events) / static_cast<double>(step.at_risk);
+        }
+        step.survival = survival;
+        // strictly below one half in exact arithmetic: an estimate that is 0.5 up to rounding is not below it
+        if (!km.median && step.events > 0 && survival < 0.5 - 1e-12) km.median = step.time;
+        km.events += step.events;
+        at_risk -= step.events + step.censored;
+        km.steps.push_back(step);
+    }
+    return km;
+}
+
+double chi2_1_sf(double x) {
+    if (!(x > 0)) return 1.0;
+    return std::erfc(std::sqrt(x / 2.0));
+}
+
+LogRank log_rank(const Survival& a, const Survival& b) {
+    check("log_rank", "a", a);
+    check("log_rank", "b", b);
+    // pooled times, each with its sample; walk the distinct times in order
+    struct Entry {
+        double time;
+        bool first;
+        bool observed;
+    };
+    std::vector<Entry> pooled;
+    for (std::size_t i = 0; i < a.time.size(); ++i) pooled.push_back({a.time[i], true, a.observed[i] == 1});
+    for (std::size_t i = 0; i < b.time.size(); ++i) pooled.push_back({b.time[i], false, b.observed[i] == 1});
+    std::stable_sort(pooled.begin(), pooled.end(), [](const Entry& x, const Entry& y) { return x.time < y.time; });
+
+    LogRank result;
+    double n_a = static_cast<double>(a.time.size());
+    double n = static_cast<double>(pooled.size());
+    for (std::size_t k = 0; k < pooled.size();) {
+        const double t = pooled[k].time;
+        double d = 0, d_a = 0, leaving = 0, leaving_a = 0;
+        for (; k < pooled.size() && pooled[k].time == t; ++k) {
+            leaving += 1;
+            if (pooled[k].first) leaving_a += 1;
+            if (pooled[k].observed) {
+                d += 1;
+                if (pooled[k].first) d_a += 1;
+            }
+        }
+        if (d > 0) {
+            const double share = n_a / n;
+            result.expected_a += d * share;
+            if (n > 1) result.variance += d * share * (1.0 - share) * (n - d) / (n - 1.0);
+        }
+        result.events_a += static_cast<std::size_t>(d_a);
+        result.events_b += static_cast<std::size_t>(d - d_a);
+        n -= leaving;
+        n_a -= leaving_a;
+    }
+    const double diff = static_cast<double>(result.events_a) - result.expected_a;
+    result.chi2 = result.variance > 0 ? diff * diff / result.variance : 0.0;
+    result.p = result.variance > 0 ? chi2_1_sf(result.chi2) : 1.0;
+    return result;
+}
+
+}  // namespace stepstone::stats
