@@ -7,6 +7,8 @@
 #include "core/error.hpp"
 #include "core/text.hpp"
 #include "db/database.hpp"
+#include "db/inspect.hpp"
+#include "stats/survival.hpp"
 #include "exp/campaign.hpp"
 #include "exp/run_store.hpp"
 
@@ -25,6 +27,7 @@ RunCurve read_curve(const fs::path& dir, const PlannedRun& run, int generation, 
     }
     auto connection = db::open_database(path, db::OpenMode::read_only);
     const RunRecord record = load_run(connection);
+    const bool milestones = db::has_milestones(connection);
     if (static_cast<std::uint64_t>(record.seed) != run.seed || record.treatment != to_string(run.treatment)) {
         throw DataError(concat(path.string(), ": holds a run of seed ", record.seed, " treatment ", record.treatment,
                                ", campaign.db expects seed ", run.seed, " treatment ", to_string(run.treatment)));
@@ -54,6 +57,18 @@ RunCurve read_curve(const fs::path& dir, const PlannedRun& run, int generation, 
         curve.policies = signal.column_int(0);
         curve.ball_policies = signal.column_int(1);
         if (!signal.is_null(2)) curve.mean_r_max = signal.column_double(2);
+    }
+    if (!milestones) return curve;
+    auto first = connection.prepare(db::sql("run/select_first_events.sql"));
+    first.bind(":run_id", record.id);
+    first.bind(":to", static_cast<std::int64_t>(generation));
+    if (first.step() && first.column_int(4) == first.column_int(5)) {
+        FirstEvents events;
+        for (std::size_t m = 0; m < kMilestones; ++m) {
+            const int column = static_cast<int>(m);
+            if (!first.is_null(column)) events[m] = static_cast<int>(first.column_int(column));
+        }
+        curve.first_events = events;
     }
     return curve;
 }
@@ -161,16 +176,56 @@ CampaignStats campaign_stats(const fs::path& dir, std::optional<int> generation,
             test.n_b = tb.best.size();
             test.test = stats::mann_whitney_u(ta.best, tb.best);
             test.a12 = stats::vargha_delaney_a12(ta.best, tb.best);
+            test.tied_share = stats::tied_share(ta.best, tb.best);
+            test.p = test.test.p;
+            test.method = test.test.method == stats::Method::exact ? PairMethod::exact : PairMethod::normal;
+            if (std::min(test.n_a, test.n_b) < kPermutationBelowRuns || test.tied_share >= kPermutationTiedShare) {
+                const stats::PermutationP permutation = stats::permutation_p(ta.best, tb.best);
+                test.p = permutation.p;
+                test.method = permutation.exact ? PairMethod::permutation : PairMethod::monte_carlo;
+                test.p_standard_error = permutation.standard_error;
+            }
             stats.tests.push_back(test);
-            p.push_back(test.test.p);
+            p.push_back(test.p);
         }
     }
     const auto adjusted = stats::holm(p);
     for (std::size_t k = 0; k < stats.tests.size(); ++k) stats.tests[k].p_holm = adjusted[k];
+
+    std::vector<RunEvents> run_events;
+    for (const auto& run : stats.runs) {
+        if (!run.first_events) {
+            stats.unrecorded.push_back(run.file);
+            continue;
+        }
+        run_events.push_back({run.treatment, run.seed, *run.first_events});
+    }
+    if (stats.unrecorded.empty()) {
+        std::vector<Treatment> order;
+        for (const auto& t : stats.treatments) order.push_back(t.treatment);
+        stats.events = campaign_events(run_events, order, stats.generation);
+    }
     return stats;
 }
 
-void write_text(std::ostream& out, const CampaignStats& stats) {
+std::string_view to_string(PairMethod method) {
+    switch (method) {
+        case PairMethod::exact: return "exact";
+        case PairMethod::normal: return "normal";
+        case PairMethod::permutation: return "permutation";
+        case PairMethod::monte_carlo: return "monte-carlo";
+    }
+    return "?";
+}
+
+void require_events(const CampaignStats& stats) {
+    if (stats.events) return;
+    throw DataError(concat(stats.dir, ": ", stats.unrecorded.size(), " of ", stats.runs.size(),
+                           " target runs do not record milestones (written before schema 0005), e.g. ",
+                           stats.unrecorded.front(), "; time-to-event statistics need runs made by this version"));
+}
+
+void write_text(std::ostream& out, const CampaignStats& stats, Milestone event) {
     char line[256];
     out << "campaign " << stats.dir << ": " << stats.runs.size() << " target runs at generation "
         << stats.generation << "; success = best-of-run reward >= " << stats.threshold << "\n";
@@ -226,19 +281,38 @@ void write_text(std::ostream& out, const CampaignStats& stats) {
         if (g == last) break;
     }
 
+    if (!stats.events) {
+        out << "\nmilestones: not recorded by " << stats.unrecorded.size() << " of " << stats.runs.size()
+            << " target runs (written before schema 0005); no time-to-event statistics\n";
+    }
     if (stats.tests.empty()) return;
     out << "\nMann-Whitney U, two-sided, at generation " << stats.generation
-        << " (p_holm: Holm-adjusted over the " << stats.tests.size() << " pairs; A12: P(a > b) + P(a = b) / 2)\n";
+        << " (p_holm: Holm-adjusted over the " << stats.tests.size() << " pairs; A12: P(a > b) + P(a = b) / 2;"
+        << " method: how p was obtained, permutation below " << kPermutationBelowRuns
+        << " runs an arm or with ties, docs/statistics.md)\n";
     std::snprintf(line, sizeof line, "%-10s %-10s %4s %4s %8s %10s %10s %6s  %s\n", "a", "b", "n_a", "n_b", "U", "p",
                   "p_holm", "A12", "method");
     out << line;
     for (const auto& t : stats.tests) {
         std::snprintf(line, sizeof line, "%-10s %-10s %4zu %4zu %8s %10.4g %10.4g %6.3f  %s\n",
                       std::string(to_string(t.a)).c_str(), std::string(to_string(t.b)).c_str(), t.n_a, t.n_b,
-                      short_number(t.test.u).c_str(), t.test.p, t.p_holm, t.a12,
-                      t.test.method == stats::Method::exact ? "exact" : "normal");
+                      short_number(t.test.u).c_str(), t.p, t.p_holm, t.a12,
+                      std::string(to_string(t.method)).c_str());
         out << line;
     }
+    if (stats.events) write_events_text(out, *stats.events, event);
+}
+
+void write_events_csv(std::ostream& out, const CampaignStats& stats) {
+    require_events(stats);
+    std::vector<RunEvents> runs;
+    for (const auto& run : stats.runs) runs.push_back({run.treatment, run.seed, *run.first_events});
+    write_events_csv(out, runs, stats.generation);
+}
+
+void write_logrank_csv(std::ostream& out, const CampaignStats& stats) {
+    require_events(stats);
+    write_logrank_csv(out, *stats.events);
 }
 
 void write_success_csv(std::ostream& out, const CampaignStats& stats) {
@@ -263,10 +337,12 @@ void write_runs_csv(std::ostream& out, const CampaignStats& stats) {
 }
 
 void write_tests_csv(std::ostream& out, const CampaignStats& stats) {
-    out << "treatment_a,treatment_b,n_a,n_b,u,p,p_holm,a12\n";
+    out << "treatment_a,treatment_b,n_a,n_b,u,p,p_holm,a12,method,p_auto,p_se\n";
     for (const auto& t : stats.tests) {
         out << to_string(t.a) << "," << to_string(t.b) << "," << t.n_a << "," << t.n_b << "," << number(t.test.u)
-            << "," << number(t.test.p) << "," << number(t.p_holm) << "," << number(t.a12) << "\n";
+            << "," << number(t.p) << "," << number(t.p_holm) << "," << number(t.a12) << "," << to_string(t.method)
+            << "," << number(t.test.p) << ","
+            << (t.method == PairMethod::monte_carlo ? number(t.p_standard_error) : "") << "\n";
     }
 }
 

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "exp/campaign_events.hpp"
 #include "exp/treatment.hpp"
 #include "stats/mann_whitney.hpp"
 #include "stats/summary.hpp"
@@ -26,6 +27,9 @@ struct RunCurve {
     /// Mean r_max of the policies evaluated in the signal window (generations
     /// CampaignStats::signal_from to the chosen one); absent without a KB.
     std::optional<double> mean_r_max;
+    /// First generation (up to the chosen one) each milestone was reached;
+    /// absent when the file does not record milestones (older than schema 0005).
+    std::optional<FirstEvents> first_events;
 };
 
 /// One treatment at the chosen generation.
@@ -40,11 +44,32 @@ struct TreatmentResult {
     std::optional<double> mean_r_max;
 };
 
+/// Below this many runs in either arm, or from this share of tied values in
+/// the pooled sample, a Mann-Whitney p is the permutation p (docs/statistics.md).
+inline constexpr std::size_t kPermutationBelowRuns = 20;
+inline constexpr double kPermutationTiedShare = 0.25;
+
+/// How the p of a PairTest was obtained.
+enum class PairMethod {
+    exact,        ///< SciPy's exact distribution (no ties, a sample of at most 8)
+    normal,       ///< the normal approximation (large samples, few ties)
+    permutation,  ///< every relabelling counted, ties kept
+    monte_carlo,  ///< seeded random relabellings, with a standard error
+};
+/// "exact", "normal", "permutation", "monte-carlo".
+std::string_view to_string(PairMethod method);
+
 /// Mann-Whitney U between two treatments at the chosen generation.
 struct PairTest {
     Treatment a = Treatment::none, b = Treatment::none;
     std::size_t n_a = 0, n_b = 0;
-    stats::MannWhitney test;  ///< u is treatment a's U statistic
+    stats::MannWhitney test;  ///< u is treatment a's U statistic; p with SciPy's method="auto"
+    double tied_share = 0;    ///< share of the pooled values in groups of equal values
+    /// The p reported (and Holm-adjusted): the permutation p for small or tied
+    /// samples, else test.p.
+    double p = 1;
+    PairMethod method = PairMethod::normal;
+    double p_standard_error = 0;  ///< of a Monte Carlo p (0 otherwise)
     double p_holm = 1;        ///< Holm-adjusted over every pair of the campaign
     double a12 = 0.5;         ///< Vargha-Delaney A12 of a over b
 };
@@ -64,6 +89,10 @@ struct CampaignStats {
     /// Target runs left out because they are missing or have not reached
     /// `generation` (only with `available_only`), relative to the campaign directory.
     std::vector<std::string> skipped;
+    /// Kaplan-Meier and log-rank statistics of the milestones; absent when a
+    /// run does not record them (listed in `unrecorded`).
+    std::optional<CampaignEvents> events;
+    std::vector<std::string> unrecorded;  ///< run files without milestones, relative to the directory
 };
 
 /// Reads every target run of the campaign in `dir` (read-only) and computes
@@ -81,15 +110,23 @@ CampaignStats campaign_stats(const std::filesystem::path& dir, std::optional<int
                              double threshold, bool available_only = false, int signal_window = 10);
 
 /// The text report: per-treatment summary, the shaping signal and the
-/// policies that collected a ball, success counts along generations, and the
-/// pairwise tests.
-void write_text(std::ostream& out, const CampaignStats& stats);
+/// policies that collected a ball, success counts along generations, the
+/// pairwise tests, and the time to `event` with its log-rank tests.
+void write_text(std::ostream& out, const CampaignStats& stats, Milestone event = Milestone::pickup);
 /// Success counts per generation: `generation,<treatment>...`.
 void write_success_csv(std::ostream& out, const CampaignStats& stats);
+/// Throws DataError naming the runs that do not record milestones, if any.
+void require_events(const CampaignStats& stats);
+/// The runs' first events (`treatment,seed,event,generation,observed`);
+/// DataError naming the runs when they do not record milestones.
+void write_events_csv(std::ostream& out, const CampaignStats& stats);
+/// The log-rank tests of every milestone; DataError as write_events_csv.
+void write_logrank_csv(std::ostream& out, const CampaignStats& stats);
 /// One row per run: `treatment,seed,generation,best_reward,success,policies,
 /// ball_policies,mean_r_max` (mean_r_max empty without a KB).
 void write_runs_csv(std::ostream& out, const CampaignStats& stats);
-/// One row per pair: `treatment_a,treatment_b,n_a,n_b,u,p,p_holm,a12`.
+/// One row per pair: `treatment_a,treatment_b,n_a,n_b,u,p,p_holm,a12,method,p_auto,p_se`
+/// (p_auto: SciPy's method="auto" p; p_se: a Monte Carlo p's standard error, else empty).
 void write_tests_csv(std::ostream& out, const CampaignStats& stats);
 
 }  // namespace stepstone::exp

@@ -235,17 +235,20 @@ TEST_CASE("stats on a campaign: success counts, quartiles and tests by hand", "[
           "generation,none,sum,mo,sum-rand,mo-rand\n0,0,2,1,0,1\n1,0,2,1,0,1\n2,0,2,1,0,1\n");
 
     const auto tests = test::read_file(dir / "tests.csv");
-    CHECK_THAT(tests, Contains("treatment_a,treatment_b,n_a,n_b,u,p,p_holm,a12\n"));
-    // none {0.125, 0.25} vs sum {0.625, 0.75}: U = 0, no ties, exact: p = 2 x 1/C(4,2) = 1/3; A12 = 0
+    CHECK_THAT(tests, Contains("treatment_a,treatment_b,n_a,n_b,u,p,p_holm,a12,method,p_auto,p_se\n"));
+    // 2 runs an arm: every p is the permutation p (SciPy's exact p where no value ties)
+    // none {0.125, 0.25} vs sum {0.625, 0.75}: U = 0, no ties: p = 2 x 1/C(4,2) = 1/3; A12 = 0
     CHECK_THAT(tests, Contains("none,sum,2,2,0,0.333333333333333"));
     // none vs mo {0.375, 0.875}: U = 0 again
     CHECK_THAT(tests, Contains("none,mo,2,2,0,0.333333333333333"));
     // sum vs mo: 0.625 > 0.375, 0.75 > 0.375, the others lose: U = 2 = n_a n_b / 2, p = 1, A12 = 0.5
-    CHECK_THAT(tests, Contains("sum,mo,2,2,2,1,1,0.5\n"));
-    // sum-rand {0, 0} vs mo-rand {0, 0.5}: ties -> normal approximation. U = 2 x 0.5 = 1 (each 0 ties
-    // with mo-rand's 0), so U_b = 3; tie term t = 3 zeros: sigma^2 = 4/12 (5 - (27 - 3)/(4 x 3)) = 1,
-    // z = (3 - 2 - 0.5) / 1 = 0.5, p = erfc(0.5 / sqrt 2) = 0.6170750774519738 (Python's math.erfc)
-    CHECK_THAT(tests, Contains("sum-rand,mo-rand,2,2,1,0.61707507745197"));
+    CHECK_THAT(tests, Contains("sum,mo,2,2,2,1,1,0.5,permutation,1,\n"));
+    // sum-rand {0, 0} vs mo-rand {0, 0.5}: U = 2 x 0.5 = 1 (each 0 ties with mo-rand's 0). Permutation:
+    // mid-ranks 2, 2 | 2, 4, sum-rand's rank sum 4 against a mean of 5; the 6 relabellings give 4
+    // (3 ways) or 6 (3 ways), all as far from 5: p = 1. The normal approximation (p_auto): U_b = 3,
+    // tie term t = 3 zeros: sigma^2 = 4/12 (5 - (27 - 3)/(4 x 3)) = 1, z = (3 - 2 - 0.5) / 1 = 0.5,
+    // p = erfc(0.5 / sqrt 2) = 0.6170750774519738 (Python's math.erfc)
+    CHECK_THAT(tests, Contains("sum-rand,mo-rand,2,2,1,1,1,0.25,permutation,0.61707507745197"));
     CHECK_THAT(result.out, Contains("sum            2        2"));
 }
 
