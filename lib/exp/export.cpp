@@ -3,6 +3,7 @@
 #include "core/error.hpp"
 #include "core/text.hpp"
 #include "db/database.hpp"
+#include "db/inspect.hpp"
 #include "db/table_output.hpp"
 #include "exp/campaign.hpp"
 
@@ -14,10 +15,12 @@ namespace {
 
 constexpr db::TableFormat kCsv = db::TableFormat::csv;
 
-std::string_view statement_for(ExportWhat what) {
+// files older than schema 0005 hold no milestones: their columns export empty
+std::string_view statement_for(ExportWhat what, bool milestones) {
     switch (what) {
         case ExportWhat::generations: return db::sql("export/generations.sql");
-        case ExportWhat::individuals: return db::sql("export/individuals.sql");
+        case ExportWhat::individuals:
+            return db::sql(milestones ? "export/individuals.sql" : "export/individuals_before_milestones.sql");
         case ExportWhat::kb: return db::sql("export/kb_segments.sql");
     }
     return {};
@@ -27,7 +30,7 @@ std::string_view statement_for(ExportWhat what) {
 std::size_t write_file_rows(const fs::path& file, ExportWhat what, const std::vector<std::string>& prefix_names,
                             const std::vector<std::string>& prefix, bool& header_done, std::ostream& out) {
     auto connection = db::open_database(file, db::OpenMode::read_only);
-    auto statement = connection.prepare(statement_for(what));
+    auto statement = connection.prepare(statement_for(what, db::has_milestones(connection)));
     if (!header_done) {
         db::write_header(out, statement, kCsv, prefix_names);
         header_done = true;

@@ -1,5 +1,6 @@
 -- stepstone export --what individuals: one row per evaluated individual (NULL parent_id
--- for generation 0, NULL shaping without a shaping KB: empty CSV fields)
+-- for generation 0, NULL shaping without a shaping KB: empty CSV fields), with its
+-- milestones summed over its starts (docs/simulator.md: milestones)
 SELECT i.id AS id,
        i.generation AS generation,
        i.parent_id AS parent_id,
@@ -8,6 +9,10 @@ SELECT i.id AS id,
        i.diversity AS diversity,
        i.shaping AS shaping,
        i.balls AS balls,
-       i.steps AS steps
+       i.steps AS steps,
+       i.presses AS presses,
+       i.pickups AS pickups,
+       i.carry_steps AS carry_steps,
+       i.basket_releases AS basket_releases
 FROM individual AS i
 ORDER BY i.run_id, i.id;

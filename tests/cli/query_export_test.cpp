@@ -83,7 +83,7 @@ TEST_CASE("query runs a queries/ file with a header row, as the sqlite3 shell pr
     CHECK_THAT(result.out, StartsWith("run_id|generations|evaluations_per_s|"));
     result = test::run_cli({"query", "--list"});
     CHECK(result.exit_code == 0);
-    for (const char* name : {"generation_times", "kb_growth", "kb_provenance", "policy_saliency",
+    for (const char* name : {"generation_times", "kb_growth", "kb_provenance", "milestones", "policy_saliency",
                              "salient_positions", "salient_segments"}) {
         CHECK_THAT(result.out, Contains(std::string(name) + ": "));
     }
@@ -125,6 +125,9 @@ TEST_CASE("export writes tidy CSV that Python's csv module reads, of a run and o
     CHECK_THAT(generations, Contains("\nsource,none,3,0,"));
     // generation 0's individuals have no parent: an empty field
     CHECK_THAT(test::read_file(dir / "individuals.csv"), Contains("\nsource,none,3,0,0,,"));
+    // the milestones close each row
+    CHECK_THAT(test::read_file(dir / "individuals.csv"),
+               Contains(",balls,steps,presses,pickups,carry_steps,basket_releases\n"));
 
     const auto rows_of = [&](const std::string& text) {
         std::size_t lines = 0;
@@ -170,9 +173,40 @@ TEST_CASE("export writes tidy CSV that Python's csv module reads, of a run and o
     INFO(g);
     CHECK_THAT(g, StartsWith("18 " + std::to_string(count(dir / "run.db", "SELECT COUNT(*) FROM generation")) + "\n"));
     const std::string c = python_csv(dir / "camp.csv");
+    // 3 run columns, the 9 individual columns and the 4 milestones
     INFO(c);
-    CHECK_THAT(c, StartsWith("12 " + std::to_string(rows_of(campaign)) + "\ntask,treatment,seed,id,generation,parent_id,"));
+    CHECK_THAT(c, StartsWith("16 " + std::to_string(rows_of(campaign)) + "\ntask,treatment,seed,id,generation,parent_id,"));
     const std::string k = python_csv(dir / "kb.csv");
     INFO(k);
     CHECK_THAT(k, Contains("kb,segment,count,cum_reward,average_reward,first_run,first_generation,last_run,"));
+}
+
+TEST_CASE("export reads a file older than the milestones as it is: their columns are empty", "[cli][export][milestones]") {
+    test::TempDir dir;
+    kbtest::make_run(dir / "run.db");
+    {
+        // schema 4 had no milestone columns
+        auto connection = db::open_database(dir / "run.db", db::OpenMode::read_write);
+        connection.exec(
+            "ALTER TABLE individual DROP COLUMN presses; ALTER TABLE individual DROP COLUMN pickups;"
+            "ALTER TABLE individual DROP COLUMN carry_steps; ALTER TABLE individual DROP COLUMN basket_releases;"
+            "PRAGMA user_version = 4");
+    }
+    const auto before = test::read_file(dir / "run.db");
+    const auto result = test::run_cli(
+        {"export", (dir / "run.db").string(), "--what", "individuals", "--csv", (dir / "i.csv").string()});
+    INFO(result.err);
+    REQUIRE(result.exit_code == 0);
+    const auto csv = test::read_file(dir / "i.csv");
+    CHECK_THAT(csv, Contains(",presses,pickups,carry_steps,basket_releases\n"));
+    // every row ends in four empty fields
+    std::size_t rows = 0, empty_tails = 0;
+    for (std::size_t at = csv.find('\n') + 1; at < csv.size(); at = csv.find('\n', at) + 1) {
+        const auto end = csv.find('\n', at);
+        ++rows;
+        empty_tails += csv.compare(end - 4, 4, ",,,,") == 0 ? 1 : 0;
+    }
+    CHECK(rows > 0);
+    CHECK(empty_tails == rows);
+    CHECK(test::read_file(dir / "run.db") == before);  // read-only: the file is untouched
 }
