@@ -50,21 +50,25 @@ Chart::Chart(Canvas& canvas, const ChartFrame& frame, double x0, double x1, doub
     x_ticks_ = nice_ticks(x0, x1, 8);
     y_ticks_ = nice_ticks(y0, y1, 6);
 
-    canvas.fill(kWhite);
+    const double ox = frame.region ? (*frame.region)[0] : 0.0;
+    const double oy = frame.region ? (*frame.region)[1] : 0.0;
+    const double width = frame.region ? (*frame.region)[2] : canvas.width();
+    const double height = frame.region ? (*frame.region)[3] : canvas.height();
+    if (!frame.region) canvas.fill(kWhite);
     // room for the widest y tick label
     double label_width = 0.0;
     for (const double v : y_ticks_.values) label_width = std::max(label_width, canvas.text_width(y_ticks_.label(v), kTickSize));
-    left_ = 30.0 + label_width + 14.0;
-    right_ = canvas.width() - 24.0;
-    top_ = frame.title.empty() ? 20.0 : 48.0;
-    bottom_ = canvas.height() - 58.0;
+    left_ = ox + 30.0 + label_width + 14.0;
+    right_ = ox + width - 24.0;
+    top_ = oy + (frame.title.empty() ? 20.0 : 48.0);
+    bottom_ = oy + height - 58.0 - frame.below;
     x_scale_ = {x_ticks_.low, x_ticks_.high, left_, right_};
     y_scale_ = {y_ticks_.low, y_ticks_.high, bottom_, top_};
 
     cairo_t* cr = canvas.cr();
     if (!frame.title.empty()) {
-        const double size = fit(canvas, frame.title, kTitleSize, canvas.width() - 20.0, true);
-        canvas.text(canvas.width() / 2.0, 14.0, frame.title, size, kText, 0.5, 0.0, true);
+        const double size = fit(canvas, frame.title, kTitleSize, width - 20.0, true);
+        canvas.text(ox + width / 2.0, oy + 14.0, frame.title, size, kText, 0.5, 0.0, true);
     }
     cairo_set_line_width(cr, 1.0);
     canvas.set_colour(kGrid);
@@ -92,8 +96,8 @@ Chart::Chart(Canvas& canvas, const ChartFrame& frame, double x0, double x1, doub
     }
     canvas.set_colour(kAxis);
     cairo_stroke(cr);
-    canvas.text((left_ + right_) / 2.0, canvas.height() - 8.0, frame.x_label, kLabelSize, kText, 0.5, 1.0);
-    canvas.text(12.0, (top_ + bottom_) / 2.0, frame.y_label, fit(canvas, frame.y_label, kLabelSize, bottom_ - top_ + 40.0),
+    canvas.text((left_ + right_) / 2.0, bottom_ + 50.0, frame.x_label, kLabelSize, kText, 0.5, 1.0);
+    canvas.text(ox + 12.0, (top_ + bottom_) / 2.0, frame.y_label, fit(canvas, frame.y_label, kLabelSize, bottom_ - top_ + 40.0),
                 kText, 0.5, 0.0, false, -M_PI / 2.0);
 }
 
@@ -146,7 +150,7 @@ void Chart::curve(const Curve& c) {
     } else {
         trace(c.y, false);
         canvas_.set_colour(c.colour);
-        cairo_set_line_width(cr, 2.2);
+        cairo_set_line_width(cr, c.width);
         if (c.dashed) {
             const double dashes[] = {7.0, 4.0};
             cairo_set_dash(cr, dashes, 2, 0.0);

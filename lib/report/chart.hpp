@@ -1,5 +1,6 @@
 #pragma once
 
+#include <array>
 #include <optional>
 #include <span>
 #include <string>
@@ -22,6 +23,7 @@ struct Curve {
     std::vector<double> low, high;  ///< the band, same length as x, or empty
     bool dashed = false;
     bool steps = false;  ///< drawn as a step function (value held until the next x)
+    double width = 2.2;  ///< line width in pixels
 };
 
 /// What every chart has: a title, axis labels (with units) and data ranges.
@@ -33,6 +35,11 @@ struct ChartFrame {
     std::optional<std::pair<double, double>> x_range;
     std::optional<std::pair<double, double>> y_range;
     bool x_tick_labels = true;  ///< false: the caller labels the x axis itself
+    /// The part of the canvas the chart takes, {x, y, width, height} in pixels
+    /// (a panel of a figure); absent: the whole canvas, filled white first.
+    std::optional<std::array<double, 4>> region = std::nullopt;
+    /// Extra pixels left free under the x axis label (a table under the axis).
+    double below = 0.0;
 };
 
 /// The plotting area of a chart drawn on a canvas: background, title, grid,
@@ -44,6 +51,10 @@ public:
 
     double px(double x) const { return x_scale_(x); }
     double py(double y) const { return y_scale_(y); }
+    /// The plotting area's edges in pixels.
+    double left() const { return left_; }
+    double right() const { return right_; }
+    double bottom() const { return bottom_; }
     const Ticks& x_ticks() const { return x_ticks_; }
     const Ticks& y_ticks() const { return y_ticks_; }
     Canvas& canvas() const { return canvas_; }

@@ -11,11 +11,13 @@
 #include "core/version.hpp"
 #include "db/database.hpp"
 #include "db/digest.hpp"
+#include "db/inspect.hpp"
 #include "exp/evolve_config.hpp"
 #include "exp/kb_stats.hpp"
 #include "exp/run_store.hpp"
 #include "report/arena_figure.hpp"
 #include "report/chart.hpp"
+#include "report/event_figures.hpp"
 #include "report/figures.hpp"
 #include "report/html.hpp"
 #include "report/sections.hpp"
@@ -110,6 +112,15 @@ void add_trajectory(Page& page, const std::string& name, const Trace& trace, con
 
 namespace {
 
+// the run digest; for a file older than this program, why there is none
+std::string digest_or_reason(db::Connection& connection) {
+    const int version = db::database_info(connection).schema_version;
+    if (version < db::latest_schema_version()) {
+        return concat("none: schema version ", version, " (stepstone db migrate the file to compute it)");
+    }
+    return db::run_digest(connection);
+}
+
 void run_report(const ReportOptions& options, const fs::path& dir, ReportSummary& summary) {
     auto connection = db::open_database(options.input, db::OpenMode::read_only);
     const auto run = exp::load_run(connection);
@@ -139,6 +150,17 @@ void run_report(const ReportOptions& options, const fs::path& dir, ReportSummary
                     "r_max (the largest average reward of the KB segments matched by a policy) of the policies "
                     "evaluated in each generation.",
                     [&](Canvas& c) { draw_run_shaping(c, generations, concat("Shaping signal per generation: ", file)); });
+    }
+    if (db::has_milestones(connection)) {
+        const auto counts = load_milestone_counts(connection, run.id);
+        page.figure("milestones", kFigureWidth, kFigureHeight,
+                    "How far the policies get through the task: the share of each generation's evaluated policies "
+                    "that pressed the switch, picked a ball up, released one within the basket radius and collected "
+                    "one (docs/simulator.md: milestones).",
+                    [&](Canvas& c) { draw_run_milestones(c, counts, concat("Milestones per generation: ", file)); });
+    } else {
+        summary.notes.push_back("the run file predates milestone recording (schema 0005): no milestone figure");
+        page.paragraph(concat("<span class=\"note\">Note: ", summary.notes.back(), ".</span>"));
     }
     progress.update(2);
 
@@ -172,7 +194,7 @@ void run_report(const ReportOptions& options, const fs::path& dir, ReportSummary
     page.table({"fact", "value"}, {{"file", options.input.string()},
                                    {"seed", std::to_string(run.seed)},
                                    {"evaluations", std::to_string(run.evaluations)},
-                                   {"run digest (stepstone db digest)", db::run_digest(connection)},
+                                   {"run digest (stepstone db digest)", digest_or_reason(connection)},
                                    {"report written by", "stepstone " + full_version()}});
     page.heading("Config", 3);
     page.preformatted(run.config.dump(2));

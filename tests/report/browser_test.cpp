@@ -71,6 +71,9 @@ TEST_CASE("the report of a campaign opens in headless chromium without errors or
     // the figures were among them, the SVG trajectories included
     CHECK(loaded.count(root + "successes.png") == 1);
     CHECK(loaded.count(root + "source-best.svg") == 1);
+    // the time-to-event figures
+    CHECK(loaded.count(root + "kaplan-meier.png") == 1);
+    CHECK(loaded.count(root + "milestone-shares.png") == 1);
 
     REQUIRE(fs::exists(shot));
     const auto image = reporttest::decode_png(test::read_file(shot));

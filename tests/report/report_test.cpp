@@ -56,7 +56,7 @@ TEST_CASE("a run's report holds its figures and refers only to files beside it")
     const auto result = run_cli({"report", (dir / "run.db").string(), "--out", (dir / "rep").string(), "--quiet"});
     REQUIRE(result.exit_code == 0);
     CHECK(result.out.find("open " + (dir / "rep" / "index.html").string()) != std::string::npos);
-    for (const auto* name : {"rewards.png", "arena.png", "trajectory.png", "trajectory.svg",
+    for (const auto* name : {"rewards.png", "milestones.png", "arena.png", "trajectory.png", "trajectory.svg",
                              "trajectory-saliency.png", "kb-histogram.png", "kb-growth.png"}) {
         CAPTURE(name);
         REQUIRE(fs::exists(dir / "rep" / name));
@@ -88,7 +88,7 @@ TEST_CASE("a campaign's report compares the treatments and shows the KB and the 
     const auto result = run_cli({"report", (dir / "camp").string(), "--out", (dir / "rep").string(), "--quiet"});
     REQUIRE(result.exit_code == 0);
     for (const auto* name : {"successes.png", "best-of-run.png", "treatment-rewards.png", "treatment-shaping.png",
-                             "treatment-medians.png",
+                             "treatment-medians.png", "kaplan-meier.png", "milestone-shares.png",
                              "kb-histogram.png", "source-best.svg", "source-best-saliency.png", "target-best.svg"}) {
         CAPTURE(name);
         CHECK(fs::exists(dir / "rep" / name));
@@ -101,6 +101,33 @@ TEST_CASE("a campaign's report compares the treatments and shows the KB and the 
     // the treatments table ends with the shaping signal and the ball-collecting policies
     CHECK(html.find("<th>with a ball</th>") != std::string::npos);
     CHECK(html.find("r_max, gen. ") != std::string::npos);
+    // the milestones: Kaplan-Meier figure, log-rank and median tables
+    CHECK(html.find("Log-rank tests of the time to each milestone") != std::string::npos);
+    CHECK(html.find("Kaplan-Meier median generation") != std::string::npos);
+    CHECK(reporttest::check_png(test::read_file(dir / "rep" / "kaplan-meier.png"), 1000, 980).empty());
+}
+
+TEST_CASE("a run file older than the milestones still reports, and says what it lacks") {
+    test::TempDir dir;
+    reporttest::make_run(dir / "run.db");
+    {
+        // as schema 4 wrote it: no milestone columns
+        auto connection = db::open_database(dir / "run.db", db::OpenMode::read_write);
+        connection.exec(
+            "ALTER TABLE individual DROP COLUMN presses; ALTER TABLE individual DROP COLUMN pickups;"
+            "ALTER TABLE individual DROP COLUMN carry_steps; ALTER TABLE individual DROP COLUMN basket_releases;"
+            "PRAGMA user_version = 4");
+    }
+    const auto before = test::read_file(dir / "run.db");
+    const auto result = run_cli({"report", (dir / "run.db").string(), "--out", (dir / "rep").string(), "--quiet"});
+    INFO(result.err);
+    REQUIRE(result.exit_code == 0);
+    CHECK(fs::exists(dir / "rep" / "rewards.png"));
+    CHECK_FALSE(fs::exists(dir / "rep" / "milestones.png"));
+    const auto html = test::read_file(dir / "rep" / "index.html");
+    CHECK(html.find("predates milestone recording (schema 0005)") != std::string::npos);
+    CHECK(html.find("none: schema version 4") != std::string::npos);
+    CHECK(test::read_file(dir / "run.db") == before);
 }
 
 TEST_CASE("a report of a run with no generation, of a foreign file or into an unwritable place fails cleanly") {
