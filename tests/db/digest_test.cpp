@@ -9,7 +9,8 @@ using namespace stepstone;
 namespace {
 
 // a run with two individuals, inserted in the given order, with a given wall time
-std::string digest_of(const std::filesystem::path& path, bool reversed, double wall_time, double reward = 0.25) {
+std::string digest_of(const std::filesystem::path& path, bool reversed, double wall_time, double reward = 0.25,
+                      int pickups = 2) {
     auto connection = db::open_database(path, db::OpenMode::create);
     connection.exec(
         "INSERT INTO run (id, task, seed, config, status, generations, program_version, created) "
@@ -17,9 +18,12 @@ std::string digest_of(const std::filesystem::path& path, bool reversed, double w
     connection.exec("INSERT INTO generation VALUES (1, 0, 0.25, 0.1, 0.1, '[2]', 1.0, 2.0, 2, " +
                     std::to_string(wall_time) + ", 0.5, 0, 0.1, 0.01, " +
                     std::to_string(wall_time / 10) + ")");
-    const std::string a = "INSERT INTO individual VALUES (1, 1, 0, NULL, " + std::to_string(reward) +
-                          ", 0.25, 3.5, NULL, 6, 12000)";
-    const std::string b = "INSERT INTO individual VALUES (1, 2, 0, NULL, 0.0, 0.0, 3.5, NULL, 0, 101)";
+    const std::string columns =
+        "INSERT INTO individual (run_id, id, generation, parent_id, reward, fitness, diversity, shaping, balls, "
+        "steps, presses, pickups, carry_steps, basket_releases) VALUES ";
+    const std::string a = columns + "(1, 1, 0, NULL, " + std::to_string(reward) + ", 0.25, 3.5, NULL, 6, 12000, 3, " +
+                          std::to_string(pickups) + ", 400, 6)";
+    const std::string b = columns + "(1, 2, 0, NULL, 0.0, 0.0, 3.5, NULL, 0, 101, 0, 0, 0, 0)";
     connection.exec(reversed ? b + ";" + a : a + ";" + b);
     return db::run_digest(connection);
 }
@@ -34,4 +38,6 @@ TEST_CASE("the run digest ignores row order and timings but not results", "[db][
     CHECK(digest_of(dir / "b.db", true, 99.0) == base);
     // one objective differs
     CHECK(digest_of(dir / "c.db", false, 1.0, 0.5) != base);
+    // one milestone differs
+    CHECK(digest_of(dir / "d.db", false, 1.0, 0.25, 3) != base);
 }
