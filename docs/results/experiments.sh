@@ -38,7 +38,7 @@ stats() {  # NAME: the CSVs and the Kaplan-Meier figure of the runs that have fi
     "$stepstone" stats "$dir" --available --generation "$last" --force \
         --events-csv "$here/$1_events.csv" --logrank-csv "$here/$1_logrank.csv" \
         --runs-csv "$here/$1_runs.csv" --tests-csv "$here/$1_tests.csv" > "$here/$1_stats.txt"
-    "$stepstone" report "$dir" --out "$out/$1-report" --force --quiet --generation "$last"
+    "$stepstone" report "$dir" --out "$out/$1-report" --force --quiet
     cp "$out/$1-report/kaplan-meier.png" "$here/figures/$1_kaplan_meier.png"
     cp "$out/$1-report/milestone-shares.png" "$here/figures/$1_milestone_shares.png"
     /usr/bin/python3 "$repo/scripts/logrank-check" "$here/$1_events.csv" "$here/$1_logrank.csv" > /dev/null

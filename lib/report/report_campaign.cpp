@@ -100,8 +100,17 @@ std::optional<exp::CampaignStats> load_stats(const ReportOptions& options, const
             return std::nullopt;
         }
         if (reached < 0) {
-            notes.push_back(concat("treatments not compared: ", e.what()));
-            return std::nullopt;
+            // some target runs have not started: compare those that have finished, if any
+            try {
+                auto finished = exp::campaign_stats(options.input, std::nullopt, options.threshold, true);
+                notes.push_back(concat(finished.skipped.size(), " target runs have not finished: the ",
+                                       finished.runs.size(), " finished ones are compared at generation ",
+                                       finished.generation));
+                return finished;
+            } catch (const DataError&) {
+                notes.push_back(concat("treatments not compared: ", e.what()));
+                return std::nullopt;
+            }
         }
         notes.push_back(concat("some target runs are unfinished: treatments compared at generation ", reached,
                                ", the last one every target run has reached"));

@@ -185,3 +185,22 @@ TEST_CASE("render draws a stored policy as PNG or SVG, and refuses bad options w
     refused({"--out", (dir / "x.png").string(), "--individual", "99999"}, "99999");
     refused({"--out", (dir / "x.png").string(), "--kb", (dir / "none.db").string()}, "none.db");
 }
+
+TEST_CASE("a campaign whose target runs have not all started compares the finished ones") {
+    test::TempDir dir;
+    reporttest::make_campaign(dir / "camp");
+    {
+        // as a running campaign leaves it: one target run not started yet
+        auto connection = db::open_database(dir / "camp" / "campaign.db", db::OpenMode::read_write);
+        connection.exec("UPDATE campaign_run SET status = 'pending', generations_done = -1, best_reward = NULL, "
+                        "digest = NULL WHERE file = 'target/sum/seed-2.db'");
+    }
+    fs::remove(dir / "camp" / "target" / "sum" / "seed-2.db");
+    const auto result = run_cli({"report", (dir / "camp").string(), "--out", (dir / "rep").string(), "--quiet"});
+    INFO(result.err);
+    REQUIRE(result.exit_code == 0);
+    const auto html = test::read_file(dir / "rep" / "index.html");
+    CHECK(html.find("1 target runs have not finished") != std::string::npos);
+    CHECK(fs::exists(dir / "rep" / "kaplan-meier.png"));
+    CHECK(html.find("Log-rank tests") != std::string::npos);
+}
