@@ -25,13 +25,19 @@ namespace {
 
 using nlohmann::json;
 
+// invalid UTF-8 (a path with %ff, say) is replaced by U+FFFD rather than thrown
 void reply(httplib::Response& res, int status, const json& body) {
     res.status = status;
-    res.set_content(body.dump(), "application/json");
+    res.set_content(body.dump(-1, ' ', false, json::error_handler_t::replace), "application/json");
 }
 
+// an error message echoes at most this many bytes of what the client sent
+constexpr std::size_t kMaxMessage = 300;
+
 void fail(httplib::Response& res, int status, const std::string& message) {
-    reply(res, status, {{"error", message}, {"status", status}});
+    const std::string bounded =
+        message.size() <= kMaxMessage ? message : message.substr(0, kMaxMessage) + "... (message cut)";
+    reply(res, status, {{"error", bounded}, {"status", status}});
 }
 
 std::string read_token(const std::filesystem::path& path) {
@@ -60,6 +66,9 @@ json parse_body(const httplib::Request& req) {
         return json::parse(req.body);
     } catch (const json::parse_error& e) {
         throw HttpError(400, concat("malformed JSON: ", e.what()));
+    } catch (const json::exception& e) {
+        // a number beyond double's range (1e400) and the like
+        throw HttpError(400, concat("unreadable JSON: ", e.what()));
     }
 }
 
@@ -146,7 +155,10 @@ HttpServer::HttpServer(const ServeOptions& options) : impl_(std::make_unique<Imp
                 }));
     server.Get("/v1/runs", guarded([&](const auto&, auto& res) { reply(res, 200, service.runs()); }));
     server.Get(R"(/v1/runs/(\d+)/generations)", guarded([&](const auto& req, auto& res) {
-                   reply(res, 200, service.generations(std::stoll(req.matches[1])));
+                   const std::string id = req.matches[1];
+                   // more digits than any run id has: no such run (std::stoll would throw)
+                   if (id.size() > 18) throw HttpError(404, concat("no run ", id.substr(0, 40), " here"));
+                   reply(res, 200, service.generations(std::stoll(id)));
                }));
     server.Get("/v1/campaign", guarded([&](const auto&, auto& res) { reply(res, 200, service.campaign()); }));
     server.set_error_handler([](const httplib::Request& req, httplib::Response& res) {
@@ -157,6 +169,9 @@ HttpServer::HttpServer(const ServeOptions& options) : impl_(std::make_unique<Imp
                                                         : concat("HTTP ", res.status);
         fail(res, res.status, message);
     });
+
+    // answers leave at once on a reused connection (no Nagle wait for the client's delayed ACK)
+    server.set_tcp_nodelay(true);
 
     int& port = impl_->port;
     port = options.port;

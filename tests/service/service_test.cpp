@@ -190,6 +190,16 @@ TEST_CASE("bad requests get a 4xx with a JSON error naming the problem, and the 
     CHECK(error_of(client.Get("/v1/kbs/run/segments?limit=-3"), 400) == "limit must be a whole number >= 0, got \"-3\"");
     CHECK(error_of(client.Get("/v1/runs/7/generations"), 404) == "no run 7 here");
     CHECK(error_of(client.Get("/v1/nothing"), 404) == "no such endpoint: GET /v1/nothing");
+    // an invalid UTF-8 byte in an unknown path: a 404 (the byte as U+FFFD), not a dead server
+    CHECK(error_of(client.Get("/x%ff"), 404) == "no such endpoint: GET /x\xef\xbf\xbd");
+    CHECK(error_of(client.Get("/v1/runs/99999999999999999999/generations"), 404) ==
+          "no run 99999999999999999999 here");
+    std::string huge = json{{"segments", {std::vector<float>(150, 0.5f)}}}.dump();
+    huge.replace(huge.find("0.5"), 3, "1e400");
+    CHECK(error_of(post_raw("/v1/kbs/run/lookup", huge), 400).rfind("unreadable JSON", 0) == 0);
+    // an error echoes a bounded part of the input
+    const auto long_name = error_of(client.Get(("/v1/kbs/" + std::string(5000, 'k')).c_str()), 404);
+    CHECK(long_name.size() < 400);
     CHECK(get(client, "/healthz")["status"] == "ok");
     CHECK(server.stop() == 0);
 }
