@@ -64,6 +64,11 @@ void print_table(const std::vector<bench::CaseResult>& results) {
         char target[32];
         std::snprintf(ratio, sizeof ratio, "%.2fx", r.ratio);
         std::snprintf(target, sizeof target, "%gx", r.target_ratio);
+        if (!r.skipped.empty()) {
+            std::cout << pad(r.name, 12, false) << pad(r.unit, 14, false) << pad("-", 12, true) << pad("-", 13, true)
+                      << pad("-", 9, true) << pad(target, 9, true) << "  not run: " << r.skipped << '\n';
+            continue;
+        }
         std::cout << pad(r.name, 12, false) << pad(r.unit, 14, false) << pad(human(r.baseline_per_s), 12, true)
                   << pad(human(r.candidate_per_s), 13, true) << pad(ratio, 9, true) << pad(target, 9, true) << '\n';
     }
@@ -72,6 +77,10 @@ void print_table(const std::vector<bench::CaseResult>& results) {
 void print_csv(const std::vector<bench::CaseResult>& results) {
     std::cout << "case,baseline_per_s,candidate_per_s,ratio\n";
     for (const auto& r : results) {
+        if (!r.skipped.empty()) {
+            std::cout << r.name << ",,,\n";  // not run: empty fields (the reason is on stderr)
+            continue;
+        }
         char line[256];
         std::snprintf(line, sizeof line, "%s,%.6g,%.6g,%.4g\n", r.name.c_str(), r.baseline_per_s, r.candidate_per_s,
                       r.ratio);
@@ -110,7 +119,19 @@ void run_bench(const BenchOptions& options) {
     std::uint64_t done = 0;
     for (const bench::Case* c : selected) {
         progress.update(done, c->name);
-        results.push_back(bench::run_case(*c, run_options, [&](int, int) { progress.update(++done, c->name); }));
+        // a case that cannot run here is reported with its reason; the others still run
+        try {
+            results.push_back(
+                bench::run_case(*c, run_options, [&](int, int) { progress.update(++done, c->name); }));
+        } catch (const std::exception& e) {
+            bench::CaseResult skipped;
+            skipped.name = c->name;
+            skipped.unit = c->unit;
+            skipped.target_ratio = c->target_ratio;
+            skipped.skipped = e.what();
+            if (options.csv) std::cerr << "stepstone: bench " << c->name << " not run: " << e.what() << '\n';
+            results.push_back(skipped);
+        }
     }
     progress.finish();
 

@@ -70,7 +70,9 @@ Work side(std::shared_ptr<Scratch> scratch, bool mpi) {
     return [scratch, mpi] {
         const fs::path log = scratch->dir / (mpi ? "mpi.log" : "threads.log");
         std::vector<std::string> argv;
-        if (mpi) argv = {"/usr/bin/env", "mpirun", "-np", "2"};  // mpirun from PATH
+        // mpirun from PATH; as root (containers, CI) Open MPI refuses to start without its flag
+        if (mpi) argv = {"/usr/bin/env", "mpirun", "-np", "2", "--oversubscribe"};
+        if (mpi && ::geteuid() == 0) argv.emplace_back("--allow-run-as-root");
         std::vector<std::string> evolve{scratch->program.string(),
                                         "evolve",
                                         "--config",

@@ -28,6 +28,8 @@ struct CaseResult {
     double candidate_per_s = 0;  ///< median over rounds of candidate units per second
     double ratio = 0;            ///< candidate_per_s / baseline_per_s
     double target_ratio = 0;     ///< the case's target
+    /// Why the case could not run (no mpirun, a failed child, ...); empty when it ran.
+    std::string skipped;
 };
 
 /// Called after each round with (rounds done, rounds in total).

@@ -1,6 +1,7 @@
 #include <catch2/catch.hpp>
 #include <cstdlib>
 
+#include "core/mpi.hpp"
 #include "support/run_cli.hpp"
 
 using namespace stepstone;
@@ -35,4 +36,23 @@ TEST_CASE("bench --csv prints the header the docs promise", "[bench][cli]") {
     auto result = test::run_cli({"bench", "--quick", "--csv"});
     CHECK(result.exit_code == 0);
     CHECK_THAT(result.out, StartsWith("case,baseline_per_s,candidate_per_s,ratio\n"));
+}
+
+TEST_CASE("a case that cannot run prints its row with the reason and the others still run", "[bench][cli]") {
+    if (!stepstone::mpi::built()) {
+        WARN("this build has no MPI case: nothing to check");
+        return;
+    }
+    // no mpirun on PATH: the mpi case cannot start, nn still runs and reports
+    const std::string path = std::getenv("PATH") ? std::getenv("PATH") : "";
+    ::setenv("PATH", "/nonexistent", 1);
+    auto result = test::run_cli({"bench", "mpi", "nn", "--quick"});
+    ::setenv("PATH", path.c_str(), 1);
+    INFO(result.out << result.err);
+    CHECK(result.exit_code == 0);
+    CHECK_THAT(result.out, Contains("mpi ") && Contains("not run: bench mpi: mpirun -np 2 stepstone evolve --mpi failed"));
+    const auto nn = result.out.find("\nnn ");
+    REQUIRE(nn != std::string::npos);
+    const std::string nn_row = result.out.substr(nn + 1, result.out.find('\n', nn + 1) - nn - 1);
+    CHECK_THAT(nn_row, !Contains("not run") && Contains("x "));
 }
