@@ -60,7 +60,16 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--csv", help="write the table here")
     parser.add_argument("--trials", type=int, default=1000)
+    parser.add_argument("--runs", type=int, help="one design only: runs per arm (with --p-control, --p-sum)")
+    parser.add_argument("--p-control", type=float, help="chance of the event by generation 500 without shaping")
+    parser.add_argument("--p-sum", type=float, help="chance of the event by generation 500 under sum")
     args = parser.parse_args()
+    if args.runs:
+        if args.p_control is None or args.p_sum is None:
+            parser.error("--runs needs --p-control and --p-sum")
+        pw = power(args.p_control, args.p_sum, args.p_control, args.runs, 500, args.trials, seed=args.runs)
+        print(f"n={args.runs} p_control={args.p_control} p_sum={args.p_sum} power={pw:.3f}")
+        return
     rows = []
     horizon = 500
     # chance of a first event by the horizon, per arm: control (none and sum-rand alike), shaped
