@@ -126,6 +126,24 @@ std::string p_value(double p) {
 
 void add_events(Page& page, const exp::CampaignStats& stats, const std::vector<RunRow>& runs, const fs::path& dir);
 
+// load(connection, run_id) of every target run file present, per treatment in the given order
+template <class Load>
+auto per_treatment(const std::vector<RunRow>& runs, const fs::path& dir, std::span<const exp::Treatment> treatments,
+                   Load load) {
+    using Row = decltype(load(std::declval<db::Connection&>(), std::int64_t{}));
+    std::vector<std::vector<Row>> series;
+    for (const auto t : treatments) {
+        series.emplace_back();
+        for (const auto& r : runs) {
+            if (r.step != exp::CampaignStep::target || r.treatment != exp::to_string(t) || !fs::exists(dir / r.file))
+                continue;
+            auto connection = db::open_database(dir / r.file, db::OpenMode::read_only);
+            series.back().push_back(load(connection, exp::load_run(connection).id));
+        }
+    }
+    return series;
+}
+
 void add_statistics(Page& page, const exp::CampaignStats& stats, const std::vector<RunRow>& runs,
                     const fs::path& dir) {
     page.heading("Treatments compared");
@@ -180,18 +198,8 @@ void add_statistics(Page& page, const exp::CampaignStats& stats, const std::vect
 
     // the shaping signal, from every target run's individual table
     std::vector<exp::Treatment> treatments;
-    std::vector<std::vector<std::vector<GenerationPoint>>> series;
-    for (const auto& t : stats.treatments) {
-        treatments.push_back(t.treatment);
-        series.emplace_back();
-        for (const auto& r : runs) {
-            if (r.step != exp::CampaignStep::target || r.treatment != exp::to_string(t.treatment) ||
-                !fs::exists(dir / r.file))
-                continue;
-            auto connection = db::open_database(dir / r.file, db::OpenMode::read_only);
-            series.back().push_back(load_generations(connection, exp::load_run(connection).id));
-        }
-    }
+    for (const auto& t : stats.treatments) treatments.push_back(t.treatment);
+    const auto series = per_treatment(runs, dir, treatments, load_generations);
     page.figure("treatment-medians", kFigureWidth, kFigureHeight,
                 "The median task reward of each generation's survivors: per treatment the median over seeds (line) "
                 "and the quartiles (band).",
@@ -244,16 +252,7 @@ void add_events(Page& page, const exp::CampaignStats& stats, const std::vector<R
     }
     page.table({"milestone", "treatment", "runs that reached it", "Kaplan-Meier median generation"}, medians);
 
-    std::vector<std::vector<std::vector<MilestoneCounts>>> series;
-    for (auto t : events.treatments) {
-        series.emplace_back();
-        for (const auto& r : runs) {
-            if (r.step != exp::CampaignStep::target || r.treatment != exp::to_string(t) || !fs::exists(dir / r.file))
-                continue;
-            auto connection = db::open_database(dir / r.file, db::OpenMode::read_only);
-            series.back().push_back(load_milestone_counts(connection, exp::load_run(connection).id));
-        }
-    }
+    const auto series = per_treatment(runs, dir, events.treatments, load_milestone_counts);
     page.figure("milestone-shares", kPanelFigureWidth, kPanelFigureHeight,
                 "The share of each generation's policies that reached each milestone: per treatment the median over "
                 "seeds (line) and the quartiles (band). Every evaluated policy counts, stored or not.",

@@ -9,6 +9,7 @@
 
 #include "db/database.hpp"
 #include "kb_cli/fixtures.hpp"
+#include "support/db_files.hpp"
 #include "support/run_cli.hpp"
 #include "support/temp_dir.hpp"
 
@@ -184,14 +185,7 @@ TEST_CASE("export writes tidy CSV that Python's csv module reads, of a run and o
 TEST_CASE("export reads a file older than the milestones as it is: their columns are empty", "[cli][export][milestones]") {
     test::TempDir dir;
     kbtest::make_run(dir / "run.db");
-    {
-        // schema 4 had no milestone columns
-        auto connection = db::open_database(dir / "run.db", db::OpenMode::read_write);
-        connection.exec(
-            "ALTER TABLE individual DROP COLUMN presses; ALTER TABLE individual DROP COLUMN pickups;"
-            "ALTER TABLE individual DROP COLUMN carry_steps; ALTER TABLE individual DROP COLUMN basket_releases;"
-            "PRAGMA user_version = 4");
-    }
+    test::make_schema4_run(dir / "run.db");  // schema 4 had no milestone columns
     const auto before = test::read_file(dir / "run.db");
     const auto result = test::run_cli(
         {"export", (dir / "run.db").string(), "--what", "individuals", "--csv", (dir / "i.csv").string()});

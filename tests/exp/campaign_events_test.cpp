@@ -10,6 +10,8 @@
 #include <sstream>
 
 #include "db/database.hpp"
+#include "support/db_files.hpp"
+#include "support/db_files.hpp"
 #include "support/run_cli.hpp"
 #include "support/temp_dir.hpp"
 
@@ -136,14 +138,7 @@ TEST_CASE("stats refuses an unknown milestone and time-to-event outputs of runs 
     CHECK_THAT(unknown.err, Contains("--event: unknown milestone 'carry' (one of press, pickup, release, ball)"));
     CHECK_FALSE(std::filesystem::exists(events));
 
-    // one run file as schema 4 left it: no milestone columns
-    {
-        auto connection = db::open_database(c.camp / "target" / "sum" / "seed-2.db", db::OpenMode::read_write);
-        connection.exec(
-            "ALTER TABLE individual DROP COLUMN presses; ALTER TABLE individual DROP COLUMN pickups;"
-            "ALTER TABLE individual DROP COLUMN carry_steps; ALTER TABLE individual DROP COLUMN basket_releases;"
-            "PRAGMA user_version = 4");
-    }
+    test::make_schema4_run(c.camp / "target" / "sum" / "seed-2.db");  // one run file as schema 4 left it
     const auto refused = test::run_cli(
         {"stats", c.camp.string(), "--runs-csv", runs.string(), "--events-csv", events.string()});
     CHECK(refused.exit_code == 1);

@@ -10,6 +10,7 @@
 #include "exp/run_store.hpp"
 #include "images.hpp"
 #include "runs.hpp"
+#include "support/db_files.hpp"
 #include "support/run_cli.hpp"
 #include "support/temp_dir.hpp"
 
@@ -110,14 +111,7 @@ TEST_CASE("a campaign's report compares the treatments and shows the KB and the 
 TEST_CASE("a run file older than the milestones still reports, and says what it lacks") {
     test::TempDir dir;
     reporttest::make_run(dir / "run.db");
-    {
-        // as schema 4 wrote it: no milestone columns
-        auto connection = db::open_database(dir / "run.db", db::OpenMode::read_write);
-        connection.exec(
-            "ALTER TABLE individual DROP COLUMN presses; ALTER TABLE individual DROP COLUMN pickups;"
-            "ALTER TABLE individual DROP COLUMN carry_steps; ALTER TABLE individual DROP COLUMN basket_releases;"
-            "PRAGMA user_version = 4");
-    }
+    test::make_schema4_run(dir / "run.db");  // as schema 4 wrote it: no milestone columns
     const auto before = test::read_file(dir / "run.db");
     const auto result = run_cli({"report", (dir / "run.db").string(), "--out", (dir / "rep").string(), "--quiet"});
     INFO(result.err);

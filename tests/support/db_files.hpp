@@ -17,6 +17,9 @@ void make_newer_stepstone(const std::filesystem::path& path);
 void make_truncated_stepstone(const std::filesystem::path& path);
 /// A stepstone database stamped with schema version 0 (as before any migration).
 void make_old_stepstone(const std::filesystem::path& path);
+/// Turns a run file into one as schema version 4 wrote it: no milestone
+/// columns in `individual` (migration 0005 removed again), user_version 4.
+void make_schema4_run(const std::filesystem::path& path);
 
 /// The run digest of a run file (`stepstone db digest`), opened read-only.
 std::string file_digest(const std::filesystem::path& path);
