@@ -65,8 +65,9 @@ void print_table(const std::vector<bench::CaseResult>& results) {
         std::snprintf(ratio, sizeof ratio, "%.2fx", r.ratio);
         std::snprintf(target, sizeof target, "%gx", r.target_ratio);
         if (!r.skipped.empty()) {
-            std::cout << pad(r.name, 12, false) << pad(r.unit, 14, false) << pad("-", 12, true) << pad("-", 13, true)
-                      << pad("-", 9, true) << pad(target, 9, true) << "  not run: " << r.skipped << '\n';
+            std::cout << pad(r.name, 12, false) << pad(r.unit, 14, false) << pad("-", 12, true)
+                      << pad("-", 13, true) << pad("-", 9, true) << pad(target, 9, true)
+                      << "  not run: " << r.skipped << '\n';
             continue;
         }
         std::cout << pad(r.name, 12, false) << pad(r.unit, 14, false) << pad(human(r.baseline_per_s), 12, true)

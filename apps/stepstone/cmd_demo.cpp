@@ -70,10 +70,11 @@ void run_demo(const DemoFlags& flags) {
     // 4. the statistics of the target runs (the paper's Fig. 6, Fig. 7 and appendix)
     std::cout << "== statistics (stepstone stats " << camp.string() << ")\n";
     exp::write_text(std::cout, exp::campaign_stats(camp, std::nullopt, 0.5));
-    std::cout << "   a demo is one small sample (a few seeds, a few dozen generations): it shows the machinery,\n"
-                 "   not whether the KB helps. The pre-registered experiments E1 (the source task, a positive\n"
-                 "   control) and E2 (the target task), 20 runs an arm on the time to a first pickup, basket\n"
-                 "   release and ball, answer that: docs/results.md, section 9.\n";
+    std::cout
+        << "   a demo is one small sample (a few seeds, a few dozen generations): it shows the machinery,\n"
+           "   not whether the KB helps. The pre-registered experiments E1 (the source task, a positive\n"
+           "   control) and E2 (the target task), 20 runs an arm on the time to a first pickup, basket\n"
+           "   release and ball, answer that: docs/results.md, section 9.\n";
     std::cout << "   query the runs with SQL: sqlite3 " << (camp / "campaign.db").string()
               << " 'SELECT file, best_reward FROM campaign_run'" << std::endl;
 

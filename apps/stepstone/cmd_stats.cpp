@@ -38,7 +38,9 @@ void write_csv(const std::string& path, bool force, Writer writer) {
 
 void add_stats_command(CLI::App& app) {
     auto flags = std::make_shared<StatsFlags>();
-    auto* cmd = app.add_subcommand("stats", "Success counts, best rewards, Mann-Whitney U tests and times to each milestone (Kaplan-Meier, log-rank) of a campaign");
+    auto* cmd = app.add_subcommand("stats",
+                                   "Success counts, best rewards, Mann-Whitney U tests and times to each "
+                                   "milestone (Kaplan-Meier, log-rank) of a campaign");
     cmd->add_option("dir", flags->dir, "Campaign directory (holds campaign.db)")->required();
     cmd->add_option("--generation", flags->generation, "Generation to compare at (default: the target budget)");
     cmd->add_option("--threshold", flags->threshold, "Success: best-of-run reward >= this (default 0.5)");
@@ -51,21 +53,25 @@ void add_stats_command(CLI::App& app) {
         "mean_r_max");
     cmd->add_option("--tests-csv", flags->tests_csv,
                     "Write one row per pair: treatment_a,treatment_b,n_a,n_b,u,p,p_holm,a12");
-    cmd->add_option("--events-csv", flags->events_csv,
-                    "Write every run's first generation of each milestone: treatment,seed,event,generation,observed");
-    cmd->add_option("--logrank-csv", flags->logrank_csv,
-                    "Write the log-rank tests of every milestone: treatment_a,treatment_b,event,n_a,n_b,events_a,"
-                    "events_b,chi2,p,p_holm");
-    auto* event_option = cmd->add_option("--event", flags->event,
-                    "Milestone of the time-to-event table: press, pickup, release or ball (default pickup)");
+    cmd->add_option(
+        "--events-csv", flags->events_csv,
+        "Write every run's first generation of each milestone: treatment,seed,event,generation,observed");
+    cmd->add_option(
+        "--logrank-csv", flags->logrank_csv,
+        "Write the log-rank tests of every milestone: treatment_a,treatment_b,event,n_a,n_b,events_a,"
+        "events_b,chi2,p,p_holm");
+    auto* event_option = cmd->add_option(
+        "--event", flags->event,
+        "Milestone of the time-to-event table: press, pickup, release or ball (default pickup)");
     cmd->add_flag("--force", flags->force, "Replace existing CSV files");
     cmd->add_flag(
         "--available", flags->available,
         "A campaign still running: compare the runs that have reached the generation, list the others");
-    cmd->footer(example({"stepstone stats camp", "stepstone stats camp --generation 10 --threshold 0.25",
-                         "stepstone stats camp --available --generation 300",
-                         "stepstone stats camp --runs-csv runs.csv --tests-csv tests.csv",
-                         "stepstone stats camp --event ball --events-csv events.csv --logrank-csv logrank.csv"}));
+    cmd->footer(
+        example({"stepstone stats camp", "stepstone stats camp --generation 10 --threshold 0.25",
+                 "stepstone stats camp --available --generation 300",
+                 "stepstone stats camp --runs-csv runs.csv --tests-csv tests.csv",
+                 "stepstone stats camp --event ball --events-csv events.csv --logrank-csv logrank.csv"}));
     cmd->callback([flags, event_option] {
         if (!(flags->threshold >= 0.0 && flags->threshold <= 1.0)) {
             throw ConfigError(concat("--threshold must be within [0, 1], got ", flags->threshold));
@@ -88,8 +94,10 @@ void add_stats_command(CLI::App& app) {
         write_csv(flags->csv, flags->force, [&](std::ostream& out) { exp::write_success_csv(out, stats); });
         write_csv(flags->runs_csv, flags->force, [&](std::ostream& out) { exp::write_runs_csv(out, stats); });
         write_csv(flags->tests_csv, flags->force, [&](std::ostream& out) { exp::write_tests_csv(out, stats); });
-        write_csv(flags->events_csv, flags->force, [&](std::ostream& out) { exp::write_events_csv(out, stats); });
-        write_csv(flags->logrank_csv, flags->force, [&](std::ostream& out) { exp::write_logrank_csv(out, stats); });
+        write_csv(flags->events_csv, flags->force,
+                  [&](std::ostream& out) { exp::write_events_csv(out, stats); });
+        write_csv(flags->logrank_csv, flags->force,
+                  [&](std::ostream& out) { exp::write_logrank_csv(out, stats); });
     });
 }
 

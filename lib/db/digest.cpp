@@ -5,9 +5,9 @@
 #include <cstdio>
 #include <string_view>
 
-#include "db/database.hpp"
 #include "core/error.hpp"
 #include "core/text.hpp"
+#include "db/database.hpp"
 #include "db/kb_store.hpp"
 
 namespace stepstone::db {
@@ -81,9 +81,11 @@ private:
 std::string run_digest(Connection& connection) {
     const int version = database_info(connection).schema_version;
     if (version < latest_schema_version()) {
-        throw DatabaseError(concat(connection.name(), ": schema version ", version, " is older than this program (",
-                                   latest_schema_version(), "); its digest covers columns the file lacks; run: "
-                                   "stepstone db migrate ", connection.name()));
+        throw DatabaseError(concat(connection.name(), ": schema version ", version,
+                                   " is older than this program (", latest_schema_version(),
+                                   "); its digest covers columns the file lacks; run: "
+                                   "stepstone db migrate ",
+                                   connection.name()));
     }
     Hasher hasher;
     // every query names its columns and a total order, so the digest does

@@ -21,7 +21,8 @@ std::string number(double value) {
 }
 
 // one treatment's event times for one milestone, censored at `generation`
-stats::Survival survival_of(std::span<const RunEvents> runs, Treatment treatment, Milestone m, int generation) {
+stats::Survival survival_of(std::span<const RunEvents> runs, Treatment treatment, Milestone m,
+                            int generation) {
     stats::Survival s;
     for (const auto& run : runs) {
         if (run.treatment != treatment) continue;
@@ -35,10 +36,14 @@ stats::Survival survival_of(std::span<const RunEvents> runs, Treatment treatment
 
 std::string_view description(Milestone m) {
     switch (m) {
-        case Milestone::press: return "pressed the switch";
-        case Milestone::pickup: return "picked a ball up";
-        case Milestone::release: return "released a ball within the basket radius";
-        case Milestone::ball: return "collected a ball";
+        case Milestone::press:
+            return "pressed the switch";
+        case Milestone::pickup:
+            return "picked a ball up";
+        case Milestone::release:
+            return "released a ball within the basket radius";
+        case Milestone::ball:
+            return "collected a ball";
     }
     return "";
 }
@@ -49,10 +54,14 @@ std::span<const Milestone> all_milestones() { return kAll; }
 
 std::string_view to_string(Milestone m) {
     switch (m) {
-        case Milestone::press: return "press";
-        case Milestone::pickup: return "pickup";
-        case Milestone::release: return "release";
-        case Milestone::ball: return "ball";
+        case Milestone::press:
+            return "press";
+        case Milestone::pickup:
+            return "pickup";
+        case Milestone::release:
+            return "release";
+        case Milestone::ball:
+            return "ball";
     }
     return "?";
 }
@@ -105,21 +114,22 @@ CampaignEvents campaign_events(std::span<const RunEvents> runs, std::span<const 
 void write_events_text(std::ostream& out, const CampaignEvents& events, Milestone milestone) {
     char line[256];
     out << "\ntime to first " << to_string(milestone) << ": the first generation in which a policy "
-        << description(milestone) << " (runs without one censored at generation " << events.generation << ")\n";
+        << description(milestone) << " (runs without one censored at generation " << events.generation
+        << ")\n";
     std::snprintf(line, sizeof line, "%-10s %5s %8s %14s\n", "treatment", "runs", "reached", "median (KM)");
     out << line;
     for (const auto& s : events.summaries) {
         if (s.milestone != milestone) continue;
         const std::string median = s.curve.median ? concat(*s.curve.median) : "not reached";
-        std::snprintf(line, sizeof line, "%-10s %5zu %8zu %14s\n", std::string(to_string(s.treatment)).c_str(),
-                      s.runs, s.reached, median.c_str());
+        std::snprintf(line, sizeof line, "%-10s %5zu %8zu %14s\n",
+                      std::string(to_string(s.treatment)).c_str(), s.runs, s.reached, median.c_str());
         out << line;
     }
     const auto pairs = std::count_if(events.tests.begin(), events.tests.end(),
                                      [&](const EventTest& t) { return t.milestone == milestone; });
     if (pairs == 0) return;
-    out << "\nlog-rank, time to first " << to_string(milestone) << " (p: chi-square with 1 df; p_holm: over the "
-        << pairs << " pairs)\n";
+    out << "\nlog-rank, time to first " << to_string(milestone)
+        << " (p: chi-square with 1 df; p_holm: over the " << pairs << " pairs)\n";
     std::snprintf(line, sizeof line, "%-10s %-10s %4s %4s %8s %8s %8s %10s %10s\n", "a", "b", "n_a", "n_b",
                   "events_a", "events_b", "chi2", "p", "p_holm");
     out << line;

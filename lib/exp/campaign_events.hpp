@@ -52,7 +52,7 @@ struct EventTest {
 /// milestone, right-censored at the chosen generation.
 struct CampaignEvents {
     int generation = 0;
-    std::vector<Treatment> treatments;   ///< in campaign order
+    std::vector<Treatment> treatments;    ///< in campaign order
     std::vector<EventSummary> summaries;  ///< milestone-major, treatments in order
     std::vector<EventTest> tests;         ///< milestone-major, every pair (a before b in campaign order)
 };

@@ -8,9 +8,9 @@
 #include "core/text.hpp"
 #include "db/database.hpp"
 #include "db/inspect.hpp"
-#include "stats/survival.hpp"
 #include "exp/campaign.hpp"
 #include "exp/run_store.hpp"
+#include "stats/survival.hpp"
 
 namespace stepstone::exp {
 
@@ -179,7 +179,8 @@ CampaignStats campaign_stats(const fs::path& dir, std::optional<int> generation,
             test.tied_share = stats::tied_share(ta.best, tb.best);
             test.p = test.test.p;
             test.method = test.test.method == stats::Method::exact ? PairMethod::exact : PairMethod::normal;
-            if (std::min(test.n_a, test.n_b) < kPermutationBelowRuns || test.tied_share >= kPermutationTiedShare) {
+            if (std::min(test.n_a, test.n_b) < kPermutationBelowRuns ||
+                test.tied_share >= kPermutationTiedShare) {
                 const stats::PermutationP permutation = stats::permutation_p(ta.best, tb.best);
                 test.p = permutation.p;
                 test.method = permutation.exact ? PairMethod::permutation : PairMethod::monte_carlo;
@@ -210,10 +211,14 @@ CampaignStats campaign_stats(const fs::path& dir, std::optional<int> generation,
 
 std::string_view to_string(PairMethod method) {
     switch (method) {
-        case PairMethod::exact: return "exact";
-        case PairMethod::normal: return "normal";
-        case PairMethod::permutation: return "permutation";
-        case PairMethod::monte_carlo: return "monte-carlo";
+        case PairMethod::exact:
+            return "exact";
+        case PairMethod::normal:
+            return "normal";
+        case PairMethod::permutation:
+            return "permutation";
+        case PairMethod::monte_carlo:
+            return "monte-carlo";
     }
     return "?";
 }
@@ -222,7 +227,8 @@ void require_events(const CampaignStats& stats) {
     if (stats.events) return;
     throw DataError(concat(stats.dir, ": ", stats.unrecorded.size(), " of ", stats.runs.size(),
                            " target runs do not record milestones (written before schema 0005), e.g. ",
-                           stats.unrecorded.front(), "; time-to-event statistics need runs made by this version"));
+                           stats.unrecorded.front(),
+                           "; time-to-event statistics need runs made by this version"));
 }
 
 void write_text(std::ostream& out, const CampaignStats& stats, Milestone event) {
@@ -287,7 +293,8 @@ void write_text(std::ostream& out, const CampaignStats& stats, Milestone event) 
     }
     if (stats.tests.empty()) return;
     out << "\nMann-Whitney U, two-sided, at generation " << stats.generation
-        << " (p_holm: Holm-adjusted over the " << stats.tests.size() << " pairs; A12: P(a > b) + P(a = b) / 2;"
+        << " (p_holm: Holm-adjusted over the " << stats.tests.size()
+        << " pairs; A12: P(a > b) + P(a = b) / 2;"
         << " method: how p was obtained, permutation below " << kPermutationBelowRuns
         << " runs an arm or with ties, docs/statistics.md)\n";
     std::snprintf(line, sizeof line, "%-10s %-10s %4s %4s %8s %10s %10s %6s  %s\n", "a", "b", "n_a", "n_b", "U", "p",
@@ -339,9 +346,9 @@ void write_runs_csv(std::ostream& out, const CampaignStats& stats) {
 void write_tests_csv(std::ostream& out, const CampaignStats& stats) {
     out << "treatment_a,treatment_b,n_a,n_b,u,p,p_holm,a12,method,p_auto,p_se\n";
     for (const auto& t : stats.tests) {
-        out << to_string(t.a) << "," << to_string(t.b) << "," << t.n_a << "," << t.n_b << "," << number(t.test.u)
-            << "," << number(t.p) << "," << number(t.p_holm) << "," << number(t.a12) << "," << to_string(t.method)
-            << "," << number(t.test.p) << ","
+        out << to_string(t.a) << "," << to_string(t.b) << "," << t.n_a << "," << t.n_b << ","
+            << number(t.test.u) << "," << number(t.p) << "," << number(t.p_holm) << "," << number(t.a12)
+            << "," << to_string(t.method) << "," << number(t.test.p) << ","
             << (t.method == PairMethod::monte_carlo ? number(t.p_standard_error) : "") << "\n";
     }
 }

@@ -20,7 +20,8 @@ std::string_view statement_for(ExportWhat what, bool milestones) {
     switch (what) {
         case ExportWhat::generations: return db::sql("export/generations.sql");
         case ExportWhat::individuals:
-            return db::sql(milestones ? "export/individuals.sql" : "export/individuals_before_milestones.sql");
+            return db::sql(milestones ? "export/individuals.sql"
+                                      : "export/individuals_before_milestones.sql");
         case ExportWhat::kb: return db::sql("export/kb_segments.sql");
     }
     return {};

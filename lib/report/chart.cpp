@@ -97,8 +97,9 @@ Chart::Chart(Canvas& canvas, const ChartFrame& frame, double x0, double x1, doub
     canvas.set_colour(kAxis);
     cairo_stroke(cr);
     canvas.text((left_ + right_) / 2.0, bottom_ + 50.0, frame.x_label, kLabelSize, kText, 0.5, 1.0);
-    canvas.text(ox + 12.0, (top_ + bottom_) / 2.0, frame.y_label, fit(canvas, frame.y_label, kLabelSize, bottom_ - top_ + 40.0),
-                kText, 0.5, 0.0, false, -M_PI / 2.0);
+    canvas.text(ox + 12.0, (top_ + bottom_) / 2.0, frame.y_label,
+                fit(canvas, frame.y_label, kLabelSize, bottom_ - top_ + 40.0), kText, 0.5, 0.0, false,
+                -M_PI / 2.0);
 }
 
 void Chart::clip() {

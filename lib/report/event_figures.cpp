@@ -22,10 +22,14 @@ constexpr double kTableSize = 11.0;
 
 std::string milestone_title(exp::Milestone m) {
     switch (m) {
-        case exp::Milestone::press: return "switch pressed";
-        case exp::Milestone::pickup: return "ball picked up";
-        case exp::Milestone::release: return "released at the basket";
-        case exp::Milestone::ball: return "ball collected";
+        case exp::Milestone::press:
+            return "switch pressed";
+        case exp::Milestone::pickup:
+            return "ball picked up";
+        case exp::Milestone::release:
+            return "released at the basket";
+        case exp::Milestone::ball:
+            return "ball collected";
     }
     return "";
 }
@@ -57,7 +61,8 @@ std::vector<MilestoneCounts> load_milestone_counts(db::Connection& connection, s
         MilestoneCounts c;
         c.generation = static_cast<int>(rows.column_int(0));
         c.policies = rows.column_int(1);
-        for (std::size_t m = 0; m < exp::kMilestones; ++m) c.reached[m] = rows.column_int(static_cast<int>(m) + 2);
+        for (std::size_t m = 0; m < exp::kMilestones; ++m)
+            c.reached[m] = rows.column_int(static_cast<int>(m) + 2);
         out.push_back(c);
     }
     return out;
@@ -104,14 +109,16 @@ void draw_kaplan_meier(Canvas& canvas, const exp::CampaignEvents& events) {
                 const double y = chart.py(s.curve.at(step.time));
                 cairo_move_to(cr, x, y - 8.0);
                 cairo_line_to(cr, x, y + 8.0);
-                canvas.hover(x, y, 6.0,
-                             concat(exp::to_string(s.treatment), ": ", step.censored, " censored at ", step.time));
+                canvas.hover(
+                    x, y, 6.0,
+                    concat(exp::to_string(s.treatment), ": ", step.censored, " censored at ", step.time));
             }
             cairo_stroke(cr);
             chart.release_clip();
             // the runs at risk at every x tick, under the axis label
             const double y = chart.bottom() + 58.0 + kTableRow * static_cast<double>(row + 1);
-            canvas.text(chart.left() - 10.0, y, std::string(exp::to_string(s.treatment)), kTableSize - 1.0, colour, 1.0, 0.5);
+            canvas.text(chart.left() - 10.0, y, std::string(exp::to_string(s.treatment)), kTableSize - 1.0,
+                        colour, 1.0, 0.5);
             for (const double v : chart.x_ticks().values) {
                 if (v < 0 || v > g) continue;
                 canvas.text(chart.px(v), y, concat(s.curve.at_risk(v)), kTableSize, colour, 0.5, 0.5);
@@ -136,12 +143,19 @@ void draw_milestone_shares(Canvas& canvas, std::span<const exp::Treatment> treat
         std::vector<Curve> curves;
         double top = 0.0;
         for (std::size_t t = 0; t < treatments.size(); ++t) {
-            Curve curve{std::string(exp::to_string(treatments[t])), treatment_colour(treatments[t]), {}, {}, {}, {},
-                        false, false};
+            Curve curve{std::string(exp::to_string(treatments[t])),
+                        treatment_colour(treatments[t]),
+                        {},
+                        {},
+                        {},
+                        {},
+                        false,
+                        false};
             for (int gen = 0; gen <= last; ++gen) {
                 std::vector<double> shares;
                 for (const auto& run : series[t]) {
-                    if (static_cast<std::size_t>(gen) < run.size()) shares.push_back(run[static_cast<std::size_t>(gen)].share(k));
+                    if (static_cast<std::size_t>(gen) < run.size())
+                        shares.push_back(run[static_cast<std::size_t>(gen)].share(k));
                 }
                 if (shares.empty()) continue;
                 const auto s = stats::summarize(shares);
@@ -153,9 +167,9 @@ void draw_milestone_shares(Canvas& canvas, std::span<const exp::Treatment> treat
             }
             curves.push_back(std::move(curve));
         }
-        ChartFrame frame{concat(milestone_title(exp::all_milestones()[k]), ": share of policies"), "generation",
-                         "share of the generation's policies", std::pair{0.0, static_cast<double>(last)},
-                         std::pair{0.0, std::max(top, 0.01)}};
+        ChartFrame frame{concat(milestone_title(exp::all_milestones()[k]), ": share of policies"),
+                         "generation", "share of the generation's policies",
+                         std::pair{0.0, static_cast<double>(last)}, std::pair{0.0, std::max(top, 0.01)}};
         frame.region = panel(canvas, k);
         Chart chart(canvas, frame, 0.0, last, 0.0, std::max(top, 0.01));
         std::vector<std::pair<std::string, Colour>> legend;
@@ -178,7 +192,8 @@ void draw_run_milestones(Canvas& canvas, std::span<const MilestoneCounts> counts
         }
         curves.push_back(std::move(curve));
     }
-    line_chart(canvas, {title, "generation", "share of the generation's policies", {}, std::pair{0.0, 1.0}}, curves);
+    line_chart(canvas, {title, "generation", "share of the generation's policies", {}, std::pair{0.0, 1.0}},
+               curves);
 }
 
 }  // namespace stepstone::report

@@ -153,13 +153,15 @@ void run_report(const ReportOptions& options, const fs::path& dir, ReportSummary
     }
     if (db::has_milestones(connection)) {
         const auto counts = load_milestone_counts(connection, run.id);
-        page.figure("milestones", kFigureWidth, kFigureHeight,
-                    "How far the policies get through the task: the share of each generation's evaluated policies "
-                    "that pressed the switch, picked a ball up, released one within the basket radius and collected "
-                    "one (docs/simulator.md: milestones).",
-                    [&](Canvas& c) { draw_run_milestones(c, counts, concat("Milestones per generation: ", file)); });
+        page.figure(
+            "milestones", kFigureWidth, kFigureHeight,
+            "How far the policies get through the task: the share of each generation's evaluated policies "
+            "that pressed the switch, picked a ball up, released one within the basket radius and collected "
+            "one (docs/simulator.md: milestones).",
+            [&](Canvas& c) { draw_run_milestones(c, counts, concat("Milestones per generation: ", file)); });
     } else {
-        summary.notes.push_back("the run file predates milestone recording (schema 0005): no milestone figure");
+        summary.notes.push_back(
+            "the run file predates milestone recording (schema 0005): no milestone figure");
         page.paragraph(concat("<span class=\"note\">Note: ", summary.notes.back(), ".</span>"));
     }
     progress.update(2);

@@ -124,18 +124,20 @@ std::string p_value(double p) {
     return text;
 }
 
-void add_events(Page& page, const exp::CampaignStats& stats, const std::vector<RunRow>& runs, const fs::path& dir);
+void add_events(Page& page, const exp::CampaignStats& stats, const std::vector<RunRow>& runs,
+                const fs::path& dir);
 
 // load(connection, run_id) of every target run file present, per treatment in the given order
 template <class Load>
-auto per_treatment(const std::vector<RunRow>& runs, const fs::path& dir, std::span<const exp::Treatment> treatments,
-                   Load load) {
+auto per_treatment(const std::vector<RunRow>& runs, const fs::path& dir,
+                   std::span<const exp::Treatment> treatments, Load load) {
     using Row = decltype(load(std::declval<db::Connection&>(), std::int64_t{}));
     std::vector<std::vector<Row>> series;
     for (const auto t : treatments) {
         series.emplace_back();
         for (const auto& r : runs) {
-            if (r.step != exp::CampaignStep::target || r.treatment != exp::to_string(t) || !fs::exists(dir / r.file))
+            if (r.step != exp::CampaignStep::target || r.treatment != exp::to_string(t) ||
+                !fs::exists(dir / r.file))
                 continue;
             auto connection = db::open_database(dir / r.file, db::OpenMode::read_only);
             series.back().push_back(load(connection, exp::load_run(connection).id));
@@ -183,17 +185,21 @@ void add_statistics(Page& page, const exp::CampaignStats& stats, const std::vect
 
     std::vector<std::vector<std::string>> tests;
     for (const auto& t : stats.tests) {
-        tests.push_back({concat(exp::to_string(t.a), " vs ", exp::to_string(t.b)), concat(t.n_a, " / ", t.n_b),
-                         fixed(t.test.u, 1), p_value(t.p), std::string(exp::to_string(t.method)),
-                         p_value(t.test.p), p_value(t.p_holm), fixed(t.a12, 3)});
+        tests.push_back({concat(exp::to_string(t.a), " vs ", exp::to_string(t.b)),
+                         concat(t.n_a, " / ", t.n_b), fixed(t.test.u, 1), p_value(t.p),
+                         std::string(exp::to_string(t.method)), p_value(t.test.p), p_value(t.p_holm),
+                         fixed(t.a12, 3)});
     }
-    page.table({"pair", "runs", "U (first)", "p (two-sided)", "p from", "p (SciPy auto)", "p (Holm)",
-                "A12 (first over second)"},
-               tests,
-               concat("Mann-Whitney U on the best-of-run rewards, Holm-adjusted over every pair, and Vargha-Delaney "
-                      "A12. Below ", exp::kPermutationBelowRuns, " runs an arm, or when a quarter of the values tie, "
-                      "p is the exact permutation p (every relabelling, ties kept); SciPy's method=\"auto\" p is "
-                      "shown beside it. The paper: sum vs none p = 0.011, mo vs none p = 0.0054."));
+    page.table(
+        {"pair", "runs", "U (first)", "p (two-sided)", "p from", "p (SciPy auto)", "p (Holm)",
+         "A12 (first over second)"},
+        tests,
+        concat("Mann-Whitney U on the best-of-run rewards, Holm-adjusted over every pair, and Vargha-Delaney "
+               "A12. Below ",
+               exp::kPermutationBelowRuns,
+               " runs an arm, or when a quarter of the values tie, "
+               "p is the exact permutation p (every relabelling, ties kept); SciPy's method=\"auto\" p is "
+               "shown beside it. The paper: sum vs none p = 0.011, mo vs none p = 0.0054."));
     add_events(page, stats, runs, dir);
 
     // the shaping signal, from every target run's individual table
@@ -219,31 +225,36 @@ void add_statistics(Page& page, const exp::CampaignStats& stats, const std::vect
 }
 
 // the time to each milestone: Kaplan-Meier figure, log-rank table, shares of policies
-void add_events(Page& page, const exp::CampaignStats& stats, const std::vector<RunRow>& runs, const fs::path& dir) {
+void add_events(Page& page, const exp::CampaignStats& stats, const std::vector<RunRow>& runs,
+                const fs::path& dir) {
     page.heading("Milestones: when runs first reach each step of the task");
     if (!stats.events) {
-        page.paragraph(concat("<span class=\"note\">Note: ", stats.unrecorded.size(), " of ", stats.runs.size(),
-                              " target runs were written before milestones were recorded (schema 0005), so there "
-                              "are no time-to-event statistics.</span>"));
+        page.paragraph(
+            concat("<span class=\"note\">Note: ", stats.unrecorded.size(), " of ", stats.runs.size(),
+                   " target runs were written before milestones were recorded (schema 0005), so there "
+                   "are no time-to-event statistics.</span>"));
         return;
     }
     const auto& events = *stats.events;
-    page.paragraph(concat("For every run and milestone, the first generation in which any evaluated policy reached "
-                          "it; runs that never did are right-censored at generation ", stats.generation,
-                          " (docs/statistics.md)."));
-    page.figure("kaplan-meier", kPanelFigureWidth, kPanelFigureHeight,
-                "Kaplan-Meier curves of the time to each milestone: the share of runs that have not reached it yet, "
-                "per treatment; a tick marks censored runs, the table under each axis gives the runs still at risk.",
-                [&](Canvas& c) { draw_kaplan_meier(c, events); });
+    page.paragraph(
+        concat("For every run and milestone, the first generation in which any evaluated policy reached "
+               "it; runs that never did are right-censored at generation ",
+               stats.generation, " (docs/statistics.md)."));
+    page.figure(
+        "kaplan-meier", kPanelFigureWidth, kPanelFigureHeight,
+        "Kaplan-Meier curves of the time to each milestone: the share of runs that have not reached it yet, "
+        "per treatment; a tick marks censored runs, the table under each axis gives the runs still at risk.",
+        [&](Canvas& c) { draw_kaplan_meier(c, events); });
     std::vector<std::vector<std::string>> rows;
     for (const auto& t : events.tests) {
         rows.push_back({std::string(exp::to_string(t.milestone)),
                         concat(exp::to_string(t.a), " vs ", exp::to_string(t.b)), concat(t.n_a, " / ", t.n_b),
-                        concat(t.test.events_a, " / ", t.test.events_b), fixed(t.test.chi2, 3), p_value(t.test.p),
-                        p_value(t.p_holm)});
+                        concat(t.test.events_a, " / ", t.test.events_b), fixed(t.test.chi2, 3),
+                        p_value(t.test.p), p_value(t.p_holm)});
     }
-    page.table({"milestone", "pair", "runs", "reached", "chi2 (1 df)", "p", "p (Holm)"}, rows,
-               "Log-rank tests of the time to each milestone, Holm-adjusted over the pairs of each milestone.");
+    page.table(
+        {"milestone", "pair", "runs", "reached", "chi2 (1 df)", "p", "p (Holm)"}, rows,
+        "Log-rank tests of the time to each milestone, Holm-adjusted over the pairs of each milestone.");
     std::vector<std::vector<std::string>> medians;
     for (const auto& s : events.summaries) {
         medians.push_back({std::string(exp::to_string(s.milestone)), std::string(exp::to_string(s.treatment)),
@@ -253,10 +264,11 @@ void add_events(Page& page, const exp::CampaignStats& stats, const std::vector<R
     page.table({"milestone", "treatment", "runs that reached it", "Kaplan-Meier median generation"}, medians);
 
     const auto series = per_treatment(runs, dir, events.treatments, load_milestone_counts);
-    page.figure("milestone-shares", kPanelFigureWidth, kPanelFigureHeight,
-                "The share of each generation's policies that reached each milestone: per treatment the median over "
-                "seeds (line) and the quartiles (band). Every evaluated policy counts, stored or not.",
-                [&](Canvas& c) { draw_milestone_shares(c, events.treatments, series); });
+    page.figure(
+        "milestone-shares", kPanelFigureWidth, kPanelFigureHeight,
+        "The share of each generation's policies that reached each milestone: per treatment the median over "
+        "seeds (line) and the quartiles (band). Every evaluated policy counts, stored or not.",
+        [&](Canvas& c) { draw_milestone_shares(c, events.treatments, series); });
 }
 
 // the finished run of `step` with the highest best reward (first on ties)

@@ -19,7 +19,8 @@ namespace {
 void check_values(const char* name, std::span<const double> values) {
     if (values.empty()) throw DataError(concat("permutation_p: sample ", name, " is empty"));
     for (std::size_t i = 0; i < values.size(); ++i) {
-        if (std::isnan(values[i])) throw DataError(concat("permutation_p: sample ", name, " holds NaN at index ", i));
+        if (std::isnan(values[i]))
+            throw DataError(concat("permutation_p: sample ", name, " holds NaN at index ", i));
     }
 }
 
@@ -29,7 +30,8 @@ std::vector<std::int64_t> doubled_mid_ranks(std::span<const double> a, std::span
     pooled.insert(pooled.end(), b.begin(), b.end());
     std::vector<std::size_t> order(pooled.size());
     std::iota(order.begin(), order.end(), std::size_t{0});
-    std::stable_sort(order.begin(), order.end(), [&](std::size_t i, std::size_t j) { return pooled[i] < pooled[j]; });
+    std::stable_sort(order.begin(), order.end(),
+                     [&](std::size_t i, std::size_t j) { return pooled[i] < pooled[j]; });
     std::vector<std::int64_t> ranks(pooled.size());
     for (std::size_t k = 0; k < order.size();) {
         std::size_t end = k;
@@ -45,7 +47,8 @@ std::vector<std::int64_t> doubled_mid_ranks(std::span<const double> a, std::span
 // uniform in [0, bound): raw draws below the largest multiple of bound, modulo bound
 std::size_t uniform_below(std::mt19937_64& engine, std::size_t bound) {
     const std::uint64_t b = bound;
-    const std::uint64_t limit = std::numeric_limits<std::uint64_t>::max() - std::numeric_limits<std::uint64_t>::max() % b;
+    const std::uint64_t limit =
+        std::numeric_limits<std::uint64_t>::max() - std::numeric_limits<std::uint64_t>::max() % b;
     std::uint64_t v = engine();
     while (v >= limit) v = engine();
     return static_cast<std::size_t>(v % b);

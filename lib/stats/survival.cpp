@@ -18,7 +18,8 @@ void check(const char* function, const char* name, const Survival& s) {
                                s.observed.size(), " observed flags"));
     }
     for (std::size_t i = 0; i < s.time.size(); ++i) {
-        if (!std::isfinite(s.time[i])) throw DataError(concat(function, ": sample ", name, " time ", i, " is not finite"));
+        if (!std::isfinite(s.time[i]))
+            throw DataError(concat(function, ": sample ", name, " time ", i, " is not finite"));
         if (s.observed[i] != 0 && s.observed[i] != 1) {
             throw DataError(concat(function, ": sample ", name, " observed flag ", i, " is ", s.observed[i],
                                    ", not 0 or 1"));
@@ -30,7 +31,8 @@ void check(const char* function, const char* name, const Survival& s) {
 std::vector<std::size_t> by_time(const Survival& s) {
     std::vector<std::size_t> order(s.time.size());
     std::iota(order.begin(), order.end(), std::size_t{0});
-    std::stable_sort(order.begin(), order.end(), [&](std::size_t i, std::size_t j) { return s.time[i] < s.time[j]; });
+    std::stable_sort(order.begin(), order.end(),
+                     [&](std::size_t i, std::size_t j) { return s.time[i] < s.time[j]; });
     return order;
 }
 
@@ -96,7 +98,8 @@ LogRank log_rank(const Survival& a, const Survival& b) {
     std::vector<Entry> pooled;
     for (std::size_t i = 0; i < a.time.size(); ++i) pooled.push_back({a.time[i], true, a.observed[i] == 1});
     for (std::size_t i = 0; i < b.time.size(); ++i) pooled.push_back({b.time[i], false, b.observed[i] == 1});
-    std::stable_sort(pooled.begin(), pooled.end(), [](const Entry& x, const Entry& y) { return x.time < y.time; });
+    std::stable_sort(pooled.begin(), pooled.end(),
+                     [](const Entry& x, const Entry& y) { return x.time < y.time; });
 
     LogRank result;
     double n_a = static_cast<double>(a.time.size());

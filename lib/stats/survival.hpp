@@ -69,8 +69,8 @@ LogRank log_rank(const Survival& a, const Survival& b);
 /// Mann-Whitney U test with ties), and how it was obtained.
 struct PermutationP {
     double p = 1;
-    bool exact = true;      ///< every relabelling counted; false: Monte Carlo
-    std::size_t draws = 0;  ///< Monte Carlo relabellings (0 when exact)
+    bool exact = true;          ///< every relabelling counted; false: Monte Carlo
+    std::size_t draws = 0;      ///< Monte Carlo relabellings (0 when exact)
     double standard_error = 0;  ///< of the Monte Carlo p (0 when exact)
 };
 
@@ -84,8 +84,9 @@ struct PermutationP {
 /// comes from `draws` relabellings drawn with `seed` (Monte Carlo, the
 /// observed one included: p = (1 + hits) / (1 + draws)), with its standard
 /// error. Throws DataError for an empty sample or a NaN.
-PermutationP permutation_p(std::span<const double> a, std::span<const double> b, std::size_t exact_limit = 200000000,
-                           std::size_t draws = 100000, unsigned long long seed = 1);
+PermutationP permutation_p(std::span<const double> a, std::span<const double> b,
+                           std::size_t exact_limit = 200000000, std::size_t draws = 100000,
+                           unsigned long long seed = 1);
 
 /// The share of the pooled sample that lies in groups of equal values (0 when
 /// every value is distinct, 1 when none is). Throws DataError for an empty pooled sample.

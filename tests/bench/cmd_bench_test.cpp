@@ -50,7 +50,8 @@ TEST_CASE("a case that cannot run prints its row with the reason and the others 
     ::setenv("PATH", path.c_str(), 1);
     INFO(result.out << result.err);
     CHECK(result.exit_code == 0);
-    CHECK_THAT(result.out, Contains("mpi ") && Contains("not run: bench mpi: mpirun -np 2 stepstone evolve --mpi failed"));
+    CHECK_THAT(result.out, Contains("mpi ") &&
+                               Contains("not run: bench mpi: mpirun -np 2 stepstone evolve --mpi failed"));
     const auto nn = result.out.find("\nnn ");
     REQUIRE(nn != std::string::npos);
     const std::string nn_row = result.out.substr(nn + 1, result.out.find('\n', nn + 1) - nn - 1);

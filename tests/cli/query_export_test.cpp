@@ -2,7 +2,6 @@
 // stepstone export (tidy CSV), checked against the sqlite3 shell and Python's csv module.
 
 #include <catch2/catch.hpp>
-
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -84,8 +83,8 @@ TEST_CASE("query runs a queries/ file with a header row, as the sqlite3 shell pr
     CHECK_THAT(result.out, StartsWith("run_id|generations|evaluations_per_s|"));
     result = test::run_cli({"query", "--list"});
     CHECK(result.exit_code == 0);
-    for (const char* name : {"generation_times", "kb_growth", "kb_provenance", "milestones", "policy_saliency",
-                             "salient_positions", "salient_segments"}) {
+    for (const char* name : {"generation_times", "kb_growth", "kb_provenance", "milestones",
+                             "policy_saliency", "salient_positions", "salient_segments"}) {
         CHECK_THAT(result.out, Contains(std::string(name) + ": "));
     }
 }
@@ -176,13 +175,15 @@ TEST_CASE("export writes tidy CSV that Python's csv module reads, of a run and o
     const std::string c = python_csv(dir / "camp.csv");
     // 3 run columns, the 9 individual columns and the 4 milestones
     INFO(c);
-    CHECK_THAT(c, StartsWith("16 " + std::to_string(rows_of(campaign)) + "\ntask,treatment,seed,id,generation,parent_id,"));
+    CHECK_THAT(c, StartsWith("16 " + std::to_string(rows_of(campaign)) +
+                             "\ntask,treatment,seed,id,generation,parent_id,"));
     const std::string k = python_csv(dir / "kb.csv");
     INFO(k);
     CHECK_THAT(k, Contains("kb,segment,count,cum_reward,average_reward,first_run,first_generation,last_run,"));
 }
 
-TEST_CASE("export reads a file older than the milestones as it is: their columns are empty", "[cli][export][milestones]") {
+TEST_CASE("export reads a file older than the milestones as it is: their columns are empty",
+          "[cli][export][milestones]") {
     test::TempDir dir;
     kbtest::make_run(dir / "run.db");
     test::make_schema4_run(dir / "run.db");  // schema 4 had no milestone columns

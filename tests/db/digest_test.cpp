@@ -9,8 +9,8 @@ using namespace stepstone;
 namespace {
 
 // a run with two individuals, inserted in the given order, with a given wall time
-std::string digest_of(const std::filesystem::path& path, bool reversed, double wall_time, double reward = 0.25,
-                      int pickups = 2) {
+std::string digest_of(const std::filesystem::path& path, bool reversed, double wall_time,
+                      double reward = 0.25, int pickups = 2) {
     auto connection = db::open_database(path, db::OpenMode::create);
     connection.exec(
         "INSERT INTO run (id, task, seed, config, status, generations, program_version, created) "
@@ -19,10 +19,11 @@ std::string digest_of(const std::filesystem::path& path, bool reversed, double w
                     std::to_string(wall_time) + ", 0.5, 0, 0.1, 0.01, " +
                     std::to_string(wall_time / 10) + ")");
     const std::string columns =
-        "INSERT INTO individual (run_id, id, generation, parent_id, reward, fitness, diversity, shaping, balls, "
+        "INSERT INTO individual (run_id, id, generation, parent_id, reward, fitness, diversity, shaping, "
+        "balls, "
         "steps, presses, pickups, carry_steps, basket_releases) VALUES ";
-    const std::string a = columns + "(1, 1, 0, NULL, " + std::to_string(reward) + ", 0.25, 3.5, NULL, 6, 12000, 3, " +
-                          std::to_string(pickups) + ", 400, 6)";
+    const std::string a = columns + "(1, 1, 0, NULL, " + std::to_string(reward) +
+                          ", 0.25, 3.5, NULL, 6, 12000, 3, " + std::to_string(pickups) + ", 400, 6)";
     const std::string b = columns + "(1, 2, 0, NULL, 0.0, 0.0, 3.5, NULL, 0, 101, 0, 0, 0, 0)";
     connection.exec(reversed ? b + ";" + a : a + ";" + b);
     return db::run_digest(connection);

@@ -4,13 +4,11 @@
 // the errors for an unknown milestone and for runs without milestones.
 
 #include <catch2/catch.hpp>
-
 #include <cmath>
 #include <map>
 #include <sstream>
 
 #include "db/database.hpp"
-#include "support/db_files.hpp"
 #include "support/db_files.hpp"
 #include "support/run_cli.hpp"
 #include "support/temp_dir.hpp"
@@ -23,7 +21,8 @@ namespace {
 // the shipped KB fixture, then none and sum x 3 seeds x 4 generations, population 8
 std::string campaign_json() {
     return std::string(R"({
-  "kb": {"file": ")") + STEPSTONE_SOURCE_DIR + R"(/examples/fixtures/demo_kb.db.gz"},
+  "kb": {"file": ")") +
+           STEPSTONE_SOURCE_DIR + R"(/examples/fixtures/demo_kb.db.gz"},
   "randomize_seed": 1,
   "target": {
     "config": {"task": {"kind": "target", "steps_per_start": 200, "starts": 1}, "ea": {"population_size": 8}},
@@ -36,11 +35,13 @@ std::string campaign_json() {
 // milestones cleared, then one individual of generation g given the milestone
 void set_first(const std::filesystem::path& run, const std::map<std::string, int>& first) {
     auto connection = db::open_database(run, db::OpenMode::read_write);
-    connection.exec("UPDATE individual SET presses = 0, pickups = 0, carry_steps = 0, basket_releases = 0, balls = 0");
+    connection.exec(
+        "UPDATE individual SET presses = 0, pickups = 0, carry_steps = 0, basket_releases = 0, balls = 0");
     const std::map<std::string, std::string> column = {
         {"press", "presses"}, {"pickup", "pickups"}, {"release", "basket_releases"}, {"ball", "balls"}};
     for (const auto& [event, generation] : first) {
-        connection.exec("UPDATE individual SET " + column.at(event) + " = 2 WHERE id = (SELECT min(id) FROM " +
+        connection.exec("UPDATE individual SET " + column.at(event) +
+                        " = 2 WHERE id = (SELECT min(id) FROM " +
                         "individual WHERE generation = " + std::to_string(generation) + ")");
     }
 }
@@ -50,10 +51,12 @@ struct Campaign {
     std::filesystem::path camp = dir / "camp";
     Campaign() {
         test::write_file(dir / "c.json", campaign_json());
-        const auto made = test::run_cli({"campaign", (dir / "c.json").string(), "--dir", camp.string(), "--quiet"});
+        const auto made =
+            test::run_cli({"campaign", (dir / "c.json").string(), "--dir", camp.string(), "--quiet"});
         INFO(made.err);
         REQUIRE(made.exit_code == 0);
-        // pickups: none at 3, never, never; sum at 0, 1, 4. Presses at 0 everywhere; no release or ball but one
+        // pickups: none at 3, never, never; sum at 0, 1, 4. Presses at 0 everywhere; no release or ball but
+        // one
         for (int seed = 1; seed <= 3; ++seed) {
             std::map<std::string, int> none{{"press", 0}}, sum{{"press", 0}};
             if (seed == 1) none["pickup"] = 3;
@@ -81,8 +84,10 @@ TEST_CASE("stats: first events per run, Kaplan-Meier medians and the log-rank te
     CHECK(e.rfind("treatment,seed,event,generation,observed\n", 0) == 0);
     CHECK_THAT(e, Contains("none,1,pickup,3,1\n") && Contains("none,2,pickup,4,0\n") &&
                       Contains("none,3,pickup,4,0\n"));
-    CHECK_THAT(e, Contains("sum,1,pickup,0,1\n") && Contains("sum,2,pickup,1,1\n") && Contains("sum,3,pickup,4,1\n"));
-    CHECK_THAT(e, Contains("sum,3,ball,4,1\n") && Contains("none,1,release,4,0\n") && Contains("sum,2,press,0,1\n"));
+    CHECK_THAT(e, Contains("sum,1,pickup,0,1\n") && Contains("sum,2,pickup,1,1\n") &&
+                      Contains("sum,3,pickup,4,1\n"));
+    CHECK_THAT(
+        e, Contains("sum,3,ball,4,1\n") && Contains("none,1,release,4,0\n") && Contains("sum,2,press,0,1\n"));
     CHECK(std::count(e.begin(), e.end(), '\n') == 1 + 6 * 4);
 
     // none {3, 4+, 4+} against sum {0, 1, 4}, at each event time (n at risk, n_none, d):
@@ -114,20 +119,23 @@ TEST_CASE("stats: first events per run, Kaplan-Meier medians and the log-rank te
     CHECK_THAT(result.out, Contains("permutation"));
 
     // statsmodels recomputes the log-rank CSV from the events CSV
-    const auto check = test::run_program(
-        {"/usr/bin/python3", std::string(STEPSTONE_SOURCE_DIR) + "/scripts/logrank-check", events.string(),
-         logrank.string()});
+    const auto check =
+        test::run_program({"/usr/bin/python3", std::string(STEPSTONE_SOURCE_DIR) + "/scripts/logrank-check",
+                           events.string(), logrank.string()});
     INFO(check.out << check.err);
     CHECK(check.exit_code == 0);
     CHECK_THAT(check.out, Contains("ok   none vs sum pickup"));
 
     const auto ball = test::run_cli({"stats", c.camp.string(), "--event", "ball"});
     REQUIRE(ball.exit_code == 0);
-    CHECK_THAT(ball.out, Contains("time to first ball") && Contains("sum            3        1    not reached\n"));
+    CHECK_THAT(ball.out,
+               Contains("time to first ball") && Contains("sum            3        1    not reached\n"));
 }
 
-TEST_CASE("stats refuses an unknown milestone and time-to-event outputs of runs without milestones, writing nothing",
-          "[exp][stats][events][cli][errors]") {
+TEST_CASE(
+    "stats refuses an unknown milestone and time-to-event outputs of runs without milestones, writing "
+    "nothing",
+    "[exp][stats][events][cli][errors]") {
     Campaign c;
     const auto events = c.dir / "events.csv";
     const auto runs = c.dir / "runs.csv";
@@ -135,7 +143,8 @@ TEST_CASE("stats refuses an unknown milestone and time-to-event outputs of runs 
         test::run_cli({"stats", c.camp.string(), "--event", "carry", "--events-csv", events.string()});
     CHECK(unknown.exit_code == 2);
     CHECK(unknown.err_lines().size() == 1);
-    CHECK_THAT(unknown.err, Contains("--event: unknown milestone 'carry' (one of press, pickup, release, ball)"));
+    CHECK_THAT(unknown.err,
+               Contains("--event: unknown milestone 'carry' (one of press, pickup, release, ball)"));
     CHECK_FALSE(std::filesystem::exists(events));
 
     test::make_schema4_run(c.camp / "target" / "sum" / "seed-2.db");  // one run file as schema 4 left it
@@ -143,8 +152,8 @@ TEST_CASE("stats refuses an unknown milestone and time-to-event outputs of runs 
         {"stats", c.camp.string(), "--runs-csv", runs.string(), "--events-csv", events.string()});
     CHECK(refused.exit_code == 1);
     CHECK(refused.err_lines().size() == 1);
-    CHECK_THAT(refused.err, Contains("1 of 6 target runs do not record milestones") &&
-                                Contains("target/sum/seed-2.db"));
+    CHECK_THAT(refused.err,
+               Contains("1 of 6 target runs do not record milestones") && Contains("target/sum/seed-2.db"));
     CHECK_FALSE(std::filesystem::exists(events));
     CHECK_FALSE(std::filesystem::exists(runs));
 

@@ -1,6 +1,5 @@
-#include <catch2/catch.hpp>
-
 #include <array>
+#include <catch2/catch.hpp>
 #include <map>
 #include <nlohmann/json.hpp>
 
@@ -42,7 +41,8 @@ TEST_CASE("generation_times.sql sums the phases of a real run", "[exp][queries]"
     CHECK(!query.step());
 }
 
-TEST_CASE("milestones.sql counts what replaying every stored genome on the simulator gives", "[exp][queries][milestones]") {
+TEST_CASE("milestones.sql counts what replaying every stored genome on the simulator gives",
+          "[exp][queries][milestones]") {
     // a target run keeping every genome; the oracle evaluates each genome again
     // (sim::run_episode through exp::evaluate_genome) and counts by generation
     test::TempDir dir;
@@ -90,7 +90,8 @@ TEST_CASE("milestones.sql counts what replaying every stored genome on the simul
         const auto g = query.column_int(1);
         INFO("generation " << g);
         REQUIRE(expected.count(g) == 1);
-        for (int k = 0; k < 6; ++k) CHECK(query.column_int(2 + k) == expected[g][static_cast<std::size_t>(k)]);
+        for (int k = 0; k < 6; ++k)
+            CHECK(query.column_int(2 + k) == expected[g][static_cast<std::size_t>(k)]);
         pressed += query.column_int(3);
         ++rows;
     }

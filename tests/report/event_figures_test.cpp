@@ -1,15 +1,15 @@
 // The Kaplan-Meier figure's content: where the step curves sit, read back
 // from the PNG's pixels, against the estimates worked out by hand.
 
-#include <catch2/catch.hpp>
+#include "report/event_figures.hpp"
 
+#include <catch2/catch.hpp>
 #include <cstdlib>
 #include <optional>
 
 #include "exp/campaign_events.hpp"
 #include "images.hpp"
 #include "report/canvas.hpp"
-#include "report/event_figures.hpp"
 #include "support/temp_dir.hpp"
 
 using namespace stepstone;
@@ -21,7 +21,8 @@ namespace {
 std::optional<int> first_row(const reporttest::Image& image, int x, int y0, int y1, reporttest::Rgb colour) {
     for (int y = y0; y < y1; ++y) {
         const auto p = image.at(x, y);
-        if (std::abs(p.r - colour.r) < 40 && std::abs(p.g - colour.g) < 40 && std::abs(p.b - colour.b) < 40) return y;
+        if (std::abs(p.r - colour.r) < 40 && std::abs(p.g - colour.g) < 40 && std::abs(p.b - colour.b) < 40)
+            return y;
     }
     return std::nullopt;
 }

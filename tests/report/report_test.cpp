@@ -2,7 +2,6 @@
 // that it refers only to its own files, and that failures leave nothing.
 
 #include <catch2/catch.hpp>
-
 #include <filesystem>
 #include <set>
 
@@ -88,9 +87,10 @@ TEST_CASE("a campaign's report compares the treatments and shows the KB and the 
     reporttest::make_campaign(dir / "camp");
     const auto result = run_cli({"report", (dir / "camp").string(), "--out", (dir / "rep").string(), "--quiet"});
     REQUIRE(result.exit_code == 0);
-    for (const auto* name : {"successes.png", "best-of-run.png", "treatment-rewards.png", "treatment-shaping.png",
-                             "treatment-medians.png", "kaplan-meier.png", "milestone-shares.png",
-                             "kb-histogram.png", "source-best.svg", "source-best-saliency.png", "target-best.svg"}) {
+    for (const auto* name :
+         {"successes.png", "best-of-run.png", "treatment-rewards.png", "treatment-shaping.png",
+          "treatment-medians.png", "kaplan-meier.png", "milestone-shares.png", "kb-histogram.png",
+          "source-best.svg", "source-best-saliency.png", "target-best.svg"}) {
         CAPTURE(name);
         CHECK(fs::exists(dir / "rep" / name));
     }
@@ -113,7 +113,8 @@ TEST_CASE("a run file older than the milestones still reports, and says what it 
     reporttest::make_run(dir / "run.db");
     test::make_schema4_run(dir / "run.db");  // as schema 4 wrote it: no milestone columns
     const auto before = test::read_file(dir / "run.db");
-    const auto result = run_cli({"report", (dir / "run.db").string(), "--out", (dir / "rep").string(), "--quiet"});
+    const auto result =
+        run_cli({"report", (dir / "run.db").string(), "--out", (dir / "rep").string(), "--quiet"});
     INFO(result.err);
     REQUIRE(result.exit_code == 0);
     CHECK(fs::exists(dir / "rep" / "rewards.png"));
@@ -186,11 +187,13 @@ TEST_CASE("a campaign whose target runs have not all started compares the finish
     {
         // as a running campaign leaves it: one target run not started yet
         auto connection = db::open_database(dir / "camp" / "campaign.db", db::OpenMode::read_write);
-        connection.exec("UPDATE campaign_run SET status = 'pending', generations_done = -1, best_reward = NULL, "
-                        "digest = NULL WHERE file = 'target/sum/seed-2.db'");
+        connection.exec(
+            "UPDATE campaign_run SET status = 'pending', generations_done = -1, best_reward = NULL, "
+            "digest = NULL WHERE file = 'target/sum/seed-2.db'");
     }
     fs::remove(dir / "camp" / "target" / "sum" / "seed-2.db");
-    const auto result = run_cli({"report", (dir / "camp").string(), "--out", (dir / "rep").string(), "--quiet"});
+    const auto result =
+        run_cli({"report", (dir / "camp").string(), "--out", (dir / "rep").string(), "--quiet"});
     INFO(result.err);
     REQUIRE(result.exit_code == 0);
     const auto html = test::read_file(dir / "rep" / "index.html");

@@ -2,9 +2,8 @@
 // counts are worked out by hand from the task rules, and on the scripted
 // controller's full evaluations, whose counts follow from the rules too.
 
-#include <catch2/catch.hpp>
-
 #include <array>
+#include <catch2/catch.hpp>
 
 #include "sim/controllers.hpp"
 #include "sim/episode.hpp"
@@ -42,7 +41,8 @@ TEST_CASE("source task: presses, pickups, carried steps and basket releases coun
     Episode episode(*task);
     episode.begin_start(0);
 
-    // 14.5 from the switch: the first grab presses it, the second finds it off (source: off until the next start)
+    // 14.5 from the switch: the first grab presses it, the second finds it off (source: off until the next
+    // start)
     episode.set_pose({532.5, 55.0, 0.0});
     act(episode, 0.0f, 1.0f, 1.0f);
     act(episode, 0.0f, 1.0f, 1.0f);
@@ -80,7 +80,8 @@ TEST_CASE("source task: presses, pickups, carried steps and basket releases coun
     act(episode, 0.0f, 1.0f, 1.0f);
 
     const EpisodeResult result = episode.finish();
-    CHECK(result.milestones == Milestones{.presses = 2, .pickups = 3, .carry_steps = 16, .basket_releases = 2});
+    CHECK(result.milestones ==
+          Milestones{.presses = 2, .pickups = 3, .carry_steps = 16, .basket_releases = 2});
     CHECK(result.balls == 1);
 }
 
@@ -109,7 +110,8 @@ TEST_CASE("target task: a press every 101 steps at most, the spawned ball carrie
     hold(episode, 1.0f, 1);
 
     const EpisodeResult result = episode.finish();
-    CHECK(result.milestones == Milestones{.presses = 2, .pickups = 1, .carry_steps = 6, .basket_releases = 1});
+    CHECK(result.milestones ==
+          Milestones{.presses = 2, .pickups = 1, .carry_steps = 6, .basket_releases = 1});
 }
 
 TEST_CASE("the scripted controller's milestones follow from the task rules", "[sim][milestones]") {

@@ -3,13 +3,13 @@
 // tests/stats/survival_oracle.py (statsmodels 0.13.5's SurvfuncRight and
 // survdiff, itertools.combinations), pasted here.
 
-#include <catch2/catch.hpp>
+#include "stats/survival.hpp"
 
+#include <catch2/catch.hpp>
 #include <optional>
 #include <vector>
 
 #include "core/error.hpp"
-#include "stats/survival.hpp"
 
 using namespace stepstone;
 using namespace stepstone::stats;
@@ -29,19 +29,31 @@ const std::vector<Fixture>& fixtures() {
         // ties between and within samples, censoring at event times
         {{{3, 5, 5, 8, 10, 10, 12}, {1, 1, 0, 1, 0, 1, 0}},
          {{2, 3, 3, 6, 7, 9, 11, 15}, {1, 1, 1, 0, 1, 1, 0, 1}},
-         0.22077792976311267, 0.6384478131758977, 10.0, 7.0,
-         {{3, 0.8571428571428572}, {5, 0.7142857142857144}, {8, 0.5357142857142857}, {10, 0.35714285714285726}},
+         0.22077792976311267,
+         0.6384478131758977,
+         10.0,
+         7.0,
+         {{3, 0.8571428571428572},
+          {5, 0.7142857142857144},
+          {8, 0.5357142857142857},
+          {10, 0.35714285714285726}},
          {{2, 0.875}, {3, 0.625}, {7, 0.46875}, {9, 0.31250000000000006}, {15, 0.0}}},
         // an arm with no event at all: its median is not reached
         {{{10, 10, 10, 10}, {0, 0, 0, 0}},
          {{2, 4, 6, 10}, {1, 1, 1, 0}},
-         4.212648221343874, 0.04012365005919594, std::nullopt, 6.0,
+         4.212648221343874,
+         0.04012365005919594,
+         std::nullopt,
+         6.0,
          {},
          {{2, 0.75}, {4, 0.5000000000000001}, {6, 0.25000000000000006}}},
         // generations: events at 0, runs censored at the budget of 500
         {{{0, 0, 12, 40, 500, 500, 500}, {1, 1, 1, 1, 0, 0, 0}},
          {{0, 300, 500, 500, 500, 500, 500}, {1, 1, 0, 0, 0, 0, 0}},
-         1.2802636631188367, 0.25785001735768753, 40.0, std::nullopt,
+         1.2802636631188367,
+         0.25785001735768753,
+         40.0,
+         std::nullopt,
          {{0, 0.7142857142857144}, {12, 0.5714285714285714}, {40, 0.4285714285714286}},
          {{0, 0.8571428571428572}, {300, 0.7142857142857144}}},
     };

@@ -49,10 +49,11 @@ void make_old_stepstone(const std::filesystem::path& path) {
 }
 
 void make_schema4_run(const std::filesystem::path& path) {
-    raw_exec(path,
-             "ALTER TABLE individual DROP COLUMN presses; ALTER TABLE individual DROP COLUMN pickups;"
-             "ALTER TABLE individual DROP COLUMN carry_steps; ALTER TABLE individual DROP COLUMN basket_releases;"
-             "PRAGMA user_version = 4;");
+    raw_exec(
+        path,
+        "ALTER TABLE individual DROP COLUMN presses; ALTER TABLE individual DROP COLUMN pickups;"
+        "ALTER TABLE individual DROP COLUMN carry_steps; ALTER TABLE individual DROP COLUMN basket_releases;"
+        "PRAGMA user_version = 4;");
 }
 
 void make_truncated_stepstone(const std::filesystem::path& path) {
