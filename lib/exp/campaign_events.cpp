@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <utility>
 
 #include "core/error.hpp"
 #include "core/text.hpp"
@@ -20,15 +21,22 @@ std::string number(double value) {
     return buffer;
 }
 
+// a run's time for milestone m: its first generation when reached by `generation`, else
+// censored at `generation` (observed false)
+std::pair<int, bool> event_time(const RunEvents& run, Milestone m, int generation) {
+    const auto& first = run.first[static_cast<std::size_t>(m)];
+    const bool observed = first.has_value() && *first <= generation;
+    return {observed ? *first : generation, observed};
+}
+
 // one treatment's event times for one milestone, censored at `generation`
 stats::Survival survival_of(std::span<const RunEvents> runs, Treatment treatment, Milestone m,
                             int generation) {
     stats::Survival s;
     for (const auto& run : runs) {
         if (run.treatment != treatment) continue;
-        const auto& first = run.first[static_cast<std::size_t>(m)];
-        const bool observed = first.has_value() && *first <= generation;
-        s.time.push_back(observed ? *first : generation);
+        const auto [time, observed] = event_time(run, m, generation);
+        s.time.push_back(time);
         s.observed.push_back(observed ? 1 : 0);
     }
     return s;
@@ -146,10 +154,9 @@ void write_events_csv(std::ostream& out, std::span<const RunEvents> runs, int ge
     out << "treatment,seed,event,generation,observed\n";
     for (const auto& run : runs) {
         for (Milestone m : kAll) {
-            const auto& first = run.first[static_cast<std::size_t>(m)];
-            const bool observed = first.has_value() && *first <= generation;
-            out << to_string(run.treatment) << "," << run.seed << "," << to_string(m) << ","
-                << (observed ? *first : generation) << "," << (observed ? 1 : 0) << "\n";
+            const auto [time, observed] = event_time(run, m, generation);
+            out << to_string(run.treatment) << "," << run.seed << "," << to_string(m) << "," << time << ","
+                << (observed ? 1 : 0) << "\n";
         }
     }
 }
