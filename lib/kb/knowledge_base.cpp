@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <mutex>
 #include <string_view>
 #include <unordered_map>
 
@@ -9,8 +10,20 @@
 #include "core/error.hpp"
 #include "core/text.hpp"
 #include "kb/distance.hpp"
+#include "kb/salient_index.hpp"
 
 namespace stepstone::kb {
+
+namespace detail {
+
+// the index of positive segments, built by the first r_max() that needs it
+struct SalientSlot {
+    std::mutex mutex;
+    bool built = false;
+    std::unique_ptr<SalientIndex> index;
+};
+
+}  // namespace detail
 
 void KbParams::validate() const {
     if (!(delta > 0) || !std::isfinite(delta)) {
@@ -30,14 +43,17 @@ KbParams validated(KbParams params) {
 }  // namespace
 
 KnowledgeBase::KnowledgeBase(KbParams params)
-    : params_(validated(params)), index_(params_.segment_width, params_.channels) {}
+    : params_(validated(params)),
+      index_(params_.segment_width, params_.channels),
+      salient_(std::make_unique<detail::SalientSlot>()) {}
 
 KnowledgeBase::KnowledgeBase(const KnowledgeBase& other)
     : params_(other.params_),
       values_(other.values_),
       records_(other.records_),
       sources_(other.sources_),
-      index_(other.index_) {}
+      index_(other.index_),
+      salient_(std::make_unique<detail::SalientSlot>()) {}
 
 KnowledgeBase& KnowledgeBase::operator=(const KnowledgeBase& other) {
     if (this != &other) {
@@ -126,7 +142,25 @@ void KnowledgeBase::check_segments(Segments segments) const {
     require_finite(segments.values, segments.dim);
 }
 
+void KnowledgeBase::changed() {
+    if (!salient_) salient_ = std::make_unique<detail::SalientSlot>();  // a moved-from KB assigned anew
+    salient_->built = false;
+    salient_->index.reset();
+}
+
+const SalientIndex* KnowledgeBase::salient() const {
+    if (!salient_) return nullptr;
+    const std::lock_guard lock(salient_->mutex);
+    if (!salient_->built) {
+        salient_->index =
+            SalientIndex::build(params_.segment_width, params_.channels, params_.delta, values_, records_);
+        salient_->built = true;
+    }
+    return salient_->index.get();
+}
+
 void KnowledgeBase::insert(const float* segment, const SegmentRecord& record) {
+    changed();
     values_.insert(values_.end(), segment, segment + params_.dim());
     records_.push_back(record);
     index_.append(segment);
@@ -173,6 +207,7 @@ ObserveResult KnowledgeBase::observe(Segments segments, double reward, Origin or
             near = index_.nearest_within_adaptive(values_, s, params_.delta);
         }
         if (near) {
+            changed();
             SegmentRecord& r = records_[near->id];
             r.cum_reward += reward;
             r.count += 1;
@@ -208,12 +243,12 @@ bool KnowledgeBase::batch_search(Segments segments) const {
     return params_.match == Match::within_delta && segments.size() > 1;
 }
 
-std::vector<SegmentMatch> KnowledgeBase::matches_of(Segments segments) const {
+std::vector<float> KnowledgeBase::distinct_of(Segments segments, std::vector<std::size_t>& slot) const {
     // a robot standing still, pushing a wall or circling shows the same
     // segment again and again: each distinct one (bit for bit) is searched
     // once, which leaves every match as it was
     const std::size_t dim = params_.dim();
-    std::vector<std::size_t> slot(segments.size());
+    slot.resize(segments.size());
     std::vector<float> distinct;
     distinct.reserve(segments.values.size());
     std::unordered_map<std::string_view, std::size_t> seen;
@@ -226,20 +261,28 @@ std::vector<SegmentMatch> KnowledgeBase::matches_of(Segments segments) const {
                             segments.values.data() + (i + 1) * dim);
         slot[i] = it->second;
     }
+    return distinct;
+}
+
+std::vector<SegmentMatch> KnowledgeBase::matches_of(Segments segments) const {
+    const std::size_t dim = params_.dim();
+    std::vector<std::size_t> slot;
+    const std::vector<float> distinct = distinct_of(segments, slot);
+    const std::size_t count = distinct.size() / dim;
 
     std::vector<SegmentMatch> found;
-    found.reserve(seen.size());
+    found.reserve(count);
     if (batch_search(segments)) {
         // the whole policy at once: one pass over the KB (brute force) or
         // interleaved tree walks
-        std::vector<std::optional<Neighbour>> near(seen.size());
-        index_.nearest_within_batch(values_, distinct.data(), seen.size(), params_.delta, near);
+        std::vector<std::optional<Neighbour>> near(count);
+        index_.nearest_within_batch(values_, distinct.data(), count, params_.delta, near);
         for (const auto& n : near) {
             found.push_back(n ? SegmentMatch{n->id, std::sqrt(n->squared_distance), records_[n->id].average()}
                               : SegmentMatch{});
         }
     } else {
-        for (std::size_t k = 0; k < seen.size(); ++k) found.push_back(match_of(distinct.data() + k * dim));
+        for (std::size_t k = 0; k < count; ++k) found.push_back(match_of(distinct.data() + k * dim));
     }
 
     std::vector<SegmentMatch> out;
@@ -263,7 +306,16 @@ Lookup KnowledgeBase::lookup(Segments segments) const {
     return result;
 }
 
-double KnowledgeBase::r_max(Segments segments) const { return lookup(segments).r_max; }
+double KnowledgeBase::r_max(Segments segments) const {
+    const SalientIndex* positive = segments.size() > 0 ? salient() : nullptr;
+    if (positive == nullptr) return lookup(segments).r_max;
+    check_segments(segments);
+    std::vector<std::size_t> slot;
+    const std::vector<float> distinct = distinct_of(segments, slot);
+    const std::optional<double> delta =
+        params_.match == Match::within_delta ? std::optional<double>(params_.delta) : std::nullopt;
+    return positive->r_max(distinct.data(), distinct.size() / params_.dim(), delta, index_, values_, records_);
+}
 
 std::optional<Neighbour> KnowledgeBase::nearest(std::span<const float> segment) const {
     if (segment.size() != params_.dim()) {

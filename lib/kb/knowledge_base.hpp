@@ -2,6 +2,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <span>
 #include <string>
@@ -12,6 +13,11 @@
 #include "kb/segments.hpp"
 
 namespace stepstone::kb {
+
+class SalientIndex;
+namespace detail {
+struct SalientSlot;
+}
 
 /// Which KB segment a lookup credits to a policy segment.
 enum class Match {
@@ -146,7 +152,11 @@ public:
     /// For each segment, its match under params().match and the policy's r_max.
     /// Throws DataError for a wrong dimension or a non-finite value.
     Lookup lookup(Segments segments) const;
-    /// lookup(segments).r_max without the per-segment list.
+    /// lookup(segments).r_max without the per-segment list, bit for bit.
+    /// When no average is negative and at most half the segments have a
+    /// positive one (a source run's KB), the first call builds an index of
+    /// the positive segments (SalientIndex), kept until the KB changes, and
+    /// the policy is searched there first; concurrent calls share it.
     double r_max(Segments segments) const;
     /// The nearest segment to `segment` whatever its distance (ties: lowest id),
     /// nullopt if the KB is empty. Throws DataError as lookup().
@@ -193,12 +203,20 @@ private:
     std::vector<SegmentMatch> matches_of(Segments segments) const;
     // merge() without the parameter check
     void absorb(const KnowledgeBase& other);
+    // the distinct segments (bit for bit) of `segments`, back to back, and
+    // each segment's place among them
+    std::vector<float> distinct_of(Segments segments, std::vector<std::size_t>& slot) const;
+    // the index of positive segments, built on first use (nullptr: none applies)
+    const SalientIndex* salient() const;
+    // forgets that index (every change of values or records calls it)
+    void changed();
 
     KbParams params_;
     detail::HugeVector<float> values_;
     std::vector<SegmentRecord> records_;
     std::vector<Source> sources_;
     SegmentIndex index_;
+    std::unique_ptr<detail::SalientSlot> salient_;
 };
 
 }  // namespace stepstone::kb

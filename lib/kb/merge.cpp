@@ -80,6 +80,7 @@ void KnowledgeBase::absorb(const KnowledgeBase& other) {
         const SegmentRecord& theirs = other.records_[i];
         const auto near = index_.nearest_within_adaptive(values_, s, params_.delta);
         if (near) {
+            changed();
             SegmentRecord& r = records_[near->id];
             r.cum_reward += theirs.cum_reward;
             r.count += theirs.count;
@@ -92,6 +93,7 @@ void KnowledgeBase::absorb(const KnowledgeBase& other) {
 
 KnowledgeBase KnowledgeBase::randomized(std::uint64_t seed) const {
     KnowledgeBase copy(*this);
+    copy.changed();
     Rng rng(seed, 0, 0, Purpose::kb_randomize);
     for (SegmentRecord& r : copy.records_) {
         r.cum_reward = rng.uniform();

@@ -71,6 +71,12 @@ bool prefix_exceeds(float prefix, double bound) {
 
 }  // namespace
 
+double radius_covering(double squared_distance) {
+    double radius = std::max(std::sqrt(squared_distance), 1e-150);
+    while (!(radius * radius > squared_distance) && std::isfinite(radius)) radius = std::nextafter(radius, HUGE_VAL);
+    return radius;
+}
+
 // the best answer so far: smallest squared distance, ties to the lowest id
 struct SegmentIndex::Best {
     bool found = false;
@@ -440,6 +446,11 @@ std::size_t SegmentIndex::count_candidates(const float* query, double radius) co
     return seen;
 }
 
+double SegmentIndex::candidate_fraction(const float* query, double radius) const {
+    if (size_ == 0) return 0.0;
+    return static_cast<double>(count_candidates(query, radius)) / static_cast<double>(size_);
+}
+
 void SegmentIndex::probe(const float* query, double radius) {
     if (stats_.queries > 0 || size_ == 0) return;
     candidate_fraction_ = static_cast<double>(count_candidates(query, radius)) / static_cast<double>(size_);
@@ -551,8 +562,7 @@ std::optional<Neighbour> SegmentIndex::nearest(std::span<const float> values, co
     STEPSTONE_ASSERT(best.found);
 
     // every segment at most that far is within a radius whose square exceeds it
-    double radius = std::max(std::sqrt(best.n.squared_distance), 1e-150);
-    while (!(radius * radius > best.n.squared_distance)) radius = std::nextafter(radius, HUGE_VAL);
+    const double radius = radius_covering(best.n.squared_distance);
     if (!std::isfinite(radius)) {
         // distances beyond double range: compare every segment
         Best all;

@@ -20,6 +20,12 @@ struct Neighbour {
     double squared_distance = 0.0;  ///< squared_distance() to the query
 };
 
+/// A radius whose square exceeds `squared_distance` (>= 0), as small as
+/// stepping up from its square root allows: a search within it finds every
+/// segment at most that far. Infinite when the square root is near the top
+/// of double's range.
+double radius_covering(double squared_distance);
+
 /// Counters of the work the index did, for benchmarks and tuning.
 struct IndexStats {
     std::uint64_t queries = 0;          ///< queries answered
@@ -121,6 +127,10 @@ public:
     /// segments whose lower bound lies within `radius` of `query` (so a
     /// freshly loaded index does not start on the wrong one); later a no-op.
     void probe(const float* query, double radius);
+
+    /// The fraction of indexed segments whose lower bound lies within
+    /// `radius` of `query` (what a search would check in full); 0 when empty.
+    double candidate_fraction(const float* query, double radius) const;
 
     /// True while queries use the brute-force path.
     bool brute_force() const { return brute_force_ || huge_; }
