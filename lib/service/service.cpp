@@ -149,7 +149,11 @@ KbService::KbService(const fs::path& input, bool writable, Limits limits)
     }
 }
 
-KbService::~KbService() = default;
+KbService::~KbService() {
+    // back to a rollback journal: later readers of the file leave no -wal or -shm beside it
+    for (const auto& kb : kbs_)
+        if (kb->writer) db::finish_writing(*kb->writer);
+}
 
 KbService::Kb& KbService::find(const std::string& name) const {
     for (const auto& kb : kbs_) {

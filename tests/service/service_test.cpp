@@ -269,6 +269,12 @@ TEST_CASE("observations need the token, are durable when answered and equal obse
     CHECK(answer["durable"] == true);
     CHECK(answer["observed"] == 3);
     CHECK(server.stop() == 0);
+    // the file is back in rollback-journal mode: neither the server nor a
+    // later reader leaves -wal or -shm beside it
+    CHECK_FALSE(std::filesystem::exists(dir / "kb.db-wal"));
+    CHECK(test::run_cli({"kb", "stats", (dir / "kb.db").string()}).exit_code == 0);
+    CHECK_FALSE(std::filesystem::exists(dir / "kb.db-wal"));
+    CHECK_FALSE(std::filesystem::exists(dir / "kb.db-shm"));
 
     // the same observations in process, on the KB as it was
     const auto source = base.add_source("client");
@@ -302,6 +308,8 @@ TEST_CASE("unsafe or bad serve options are refused before listening") {
     refused({"--writable"}, "--writable needs --token-file");
     refused({"--token-file", (dir / "short").string()}, "the token must have at least 16 characters");
     refused({"--port", "70000"}, "--port must be within 0 to 65535");
+    for (const char* timeout : {"-1", "0", "1e30", "nan"}) refused({"--timeout", timeout}, "--timeout must be within 1 to 3600 seconds");
+    refused({"--threads", "5000"}, "--threads must be within 1 to 1024");
     const auto missing = test::run_cli({"serve", (dir / "none.db").string()});
     CHECK(missing.exit_code == 2);
     CHECK(missing.err_lines().at(0).find("none.db: no such file or directory") != std::string::npos);
