@@ -7,6 +7,7 @@
 
 #include "commands.hpp"
 #include "core/error.hpp"
+#include "core/text.hpp"
 #include "core/writer_lock.hpp"
 #include "db/database.hpp"
 #include "db/digest.hpp"
@@ -24,6 +25,12 @@ struct DbInfoOptions {
 void run_db_info(const DbInfoOptions& options) {
     auto connection = db::open_database(options.file, db::OpenMode::read_only, /*allow_older=*/true);
     const auto info = db::database_info(connection);
+    // a damaged file is said so, not listed as if it were whole
+    const std::string integrity = db::integrity_check(connection);
+    if (integrity != "ok") {
+        throw DataError(concat(options.file, ": fails SQLite's integrity check (", one_line(integrity),
+                               "); restore it from a copy, or rerun what wrote it"));
+    }
     const auto tables = db::table_counts(connection);
     if (options.json) {
         nlohmann::json out;
@@ -31,6 +38,7 @@ void run_db_info(const DbInfoOptions& options) {
         out["application_id"] = info.application_id;
         out["schema_version"] = info.schema_version;
         out["program_schema_version"] = db::latest_schema_version();
+        out["integrity"] = integrity;
         out["tables"] = nlohmann::json::object();
         for (const auto& table : tables) out["tables"][table.name] = table.rows;
         std::cout << out.dump(2) << '\n';
@@ -42,6 +50,7 @@ void run_db_info(const DbInfoOptions& options) {
               << "application_id  " << app_id << " (stepstone)\n"
               << "schema_version  " << info.schema_version << " (this program: " << db::latest_schema_version()
               << ")\n"
+              << "integrity       ok\n"
               << "tables          " << tables.size() << '\n';
     for (const auto& table : tables) {
         std::cout << "  " << table.name << std::string(table.name.size() < 24 ? 24 - table.name.size() : 1, ' ')

@@ -15,6 +15,11 @@ bool has_column(Connection& connection, std::string_view table, std::string_view
 
 bool has_milestones(Connection& connection) { return has_column(connection, "individual", "presses"); }
 
+std::string integrity_check(Connection& connection) {
+    auto check = connection.prepare(sql("db/integrity_check.sql"));
+    return check.step() ? check.column_text(0) : std::string("ok");
+}
+
 std::vector<TableCount> table_counts(Connection& connection) {
     std::vector<TableCount> tables;
     auto list = connection.prepare(sql("db/list_tables.sql"));

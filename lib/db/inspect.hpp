@@ -14,6 +14,9 @@ struct TableCount {
     std::int64_t rows = 0;
 };
 
+/// SQLite's integrity check of the whole file: "ok", or its first problem.
+std::string integrity_check(Connection& connection);
+
 /// Every user table (not sqlite_*) with its row count, sorted by name.
 std::vector<TableCount> table_counts(Connection& connection);
 

@@ -318,3 +318,32 @@ TEST_CASE("the README's sqlite3 saliency example prints a header and rows", "[cl
           std::string::npos);
     CHECK_THAT(salient, StartsWith("kb_segment_id|"));
 }
+
+TEST_CASE("db info says a file fails SQLite's integrity check and leaves it as it was", "[cli][harden][db]") {
+    test::TempDir dir;
+    test::write_file(dir / "c.json", kSlowConfig);
+    REQUIRE(test::run_cli({"evolve", "--config", (dir / "c.json").string(), "--db", (dir / "run.db").string(),
+                           "--generations", "3", "--quiet"})
+                .exit_code == 0);
+    const auto whole = test::run_cli({"db", "info", (dir / "run.db").string()});
+    CHECK(whole.exit_code == 0);
+    CHECK_THAT(whole.out, Contains("integrity       ok"));
+
+    // the cell pointers of a b-tree page in the second half of the file (its
+    // first byte: 0x02, 0x05, 0x0a or 0x0d) overwritten: header and schema still read
+    const auto run_bytes = test::read_file(dir / "run.db");
+    const std::size_t pages = run_bytes.size() / 4096;
+    REQUIRE(pages > 8);
+    std::size_t page = pages / 2;
+    const auto btree = [&](std::size_t p) {
+        const char type = run_bytes[p * 4096];
+        return type == 0x02 || type == 0x05 || type == 0x0a || type == 0x0d;
+    };
+    while (page < pages && !btree(page)) ++page;
+    REQUIRE(page < pages);
+    std::string damaged = run_bytes;
+    for (std::size_t k = 0; k < 600; ++k) damaged[page * 4096 + 8 + k] = '\xff';
+    test::write_file(dir / "damaged.db", damaged);
+    check_refused(test::run_cli({"db", "info", (dir / "damaged.db").string()}), 1, "fails SQLite's integrity check");
+    CHECK(test::read_file(dir / "damaged.db") == damaged);
+}
