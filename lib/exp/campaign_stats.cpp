@@ -104,6 +104,12 @@ CampaignStats campaign_stats(const fs::path& dir, std::optional<int> generation,
         if (run.step != CampaignStep::target) continue;
         if (!generation) generation = run.generations;
         stats.signal_from = std::max(0, *generation - signal_window + 1);
+        if (*generation > run.generations) {
+            // resuming cannot help: the campaign asks for fewer generations
+            throw ConfigError(concat("--generation ", *generation, " is beyond the ", run.generations,
+                                     " generations the campaign's target runs are asked for (",
+                                     (dir / run.file).string(), "); use --generation ", run.generations, " or less"));
+        }
         if (available_only && !fs::exists(dir / run.file)) {
             stats.skipped.push_back(run.file);
             continue;

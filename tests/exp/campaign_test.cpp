@@ -282,10 +282,21 @@ TEST_CASE("stats --available compares the runs that have reached the generation 
     const auto tests = test::read_file(dir / "tests.csv");
     CHECK_THAT(tests, Contains("none,sum,2,1,0,0.66666666666666"));
 
-    const auto none_reached = test::run_cli({"stats", camp.string(), "--available", "--generation", "7"});
+    // generation 2 is the last the runs are asked for; 0 reached by every started run
+    const auto beyond = test::run_cli({"stats", camp.string(), "--available", "--generation", "7"});
+    CHECK(beyond.exit_code == 2);
+    CHECK(beyond.err_lines().size() == 1);
+    CHECK_THAT(beyond.err, Contains("--generation 7 is beyond the 2 generations") && Contains("use --generation 2"));
+    // every run back at generation 0: none has reached 1 yet
+    for (const auto& entry : std::filesystem::recursive_directory_iterator(camp / "target")) {
+        if (entry.path().extension() != ".db") continue;
+        auto connection = db::open_database(entry.path(), db::OpenMode::read_write);
+        connection.exec("DELETE FROM generation WHERE generation > 0");
+    }
+    const auto none_reached = test::run_cli({"stats", camp.string(), "--available", "--generation", "1"});
     CHECK(none_reached.exit_code == 1);
     CHECK(none_reached.err_lines().size() == 1);
-    CHECK_THAT(none_reached.err, Contains("no target run has reached generation 7 yet"));
+    CHECK_THAT(none_reached.err, Contains("no target run has reached generation 1 yet"));
 }
 
 TEST_CASE("stats reports a missing, corrupt or unfinished run file", "[exp][campaign][stats][cli][errors]") {
@@ -300,10 +311,21 @@ TEST_CASE("stats reports a missing, corrupt or unfinished run file", "[exp][camp
         CHECK(result.err_lines().size() == 1);
         CHECK_THAT(result.err, Contains("--threshold must be within [0, 1]"));
     }
-    SECTION("a generation no run has reached") {
+    SECTION("a generation beyond the runs' last") {
+        // resuming cannot reach it: a usage error naming the last one
         const auto result = test::run_cli({"stats", camp.string(), "--generation", "5"});
+        CHECK(result.exit_code == 2);
+        CHECK(result.err_lines().size() == 1);
+        CHECK_THAT(result.err, Contains("--generation 5 is beyond the 2 generations") && Contains("use --generation 2"));
+    }
+    SECTION("a generation an unfinished run has not reached") {
+        {
+            auto connection = db::open_database(camp / "target" / "sum" / "seed-1.db", db::OpenMode::read_write);
+            connection.exec("DELETE FROM generation WHERE generation > 0");
+        }
+        const auto result = test::run_cli({"stats", camp.string(), "--generation", "2"});
         CHECK(result.exit_code == 1);
-        CHECK_THAT(result.err, Contains("has reached generation 2 of 5"));
+        CHECK_THAT(result.err, Contains("has reached generation 0 of 2") && Contains("campaign --resume"));
     }
     SECTION("a missing run file") {
         std::filesystem::remove(camp / "target" / "mo" / "seed-2.db");
