@@ -325,7 +325,15 @@ void campaign_report(const ReportOptions& options, const fs::path& dir, ReportSu
     }
     progress.update(3);
     if (const auto* target = best_run(runs, exp::CampaignStep::target)) {
-        page.heading("The best target policy");
+        // a best reward of 0 is no best policy: say so, and show what the runs reached
+        const bool scored = *target->best_reward > 0;
+        page.heading(scored ? "The best target policy" : "No target policy scored");
+        if (!scored) {
+            page.paragraph(concat("No target run has a policy that collected a ball (every best reward is 0). "
+                                  "Below: the first stored policy of ", xml_escape(target->file),
+                                  ", to show where such policies drive; the milestones above say how far the "
+                                  "runs got."));
+        }
         // coloured by the KB the run was shaped with
         const bool randomized = target->treatment.ends_with("-rand");
         const auto it = loaded.find(randomized ? "kb-rand" : "kb");
@@ -333,7 +341,8 @@ void campaign_report(const ReportOptions& options, const fs::path& dir, ReportSu
         const auto trace = trace_policy(campaign_dir / target->file, "best", 0, used ? &used->kb : nullptr,
                                         used ? used->name : "");
         add_trajectory(page, "target-best", trace,
-                       concat("The best policy of ", target->file, " (treatment ", target->treatment, ")"));
+                       concat(scored ? "The best policy of " : "A policy of ", target->file, " (treatment ",
+                              target->treatment, scored ? ")" : ", reward 0)"));
     }
     progress.update(4);
 

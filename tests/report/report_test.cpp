@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <set>
 
+#include "core/text.hpp"
 #include "db/database.hpp"
 #include "exp/run_store.hpp"
 #include "images.hpp"
@@ -106,6 +107,25 @@ TEST_CASE("a campaign's report compares the treatments and shows the KB and the 
     CHECK(html.find("Log-rank tests of the time to each milestone") != std::string::npos);
     CHECK(html.find("Kaplan-Meier median generation") != std::string::npos);
     CHECK(reporttest::check_png(test::read_file(dir / "rep" / "kaplan-meier.png"), 1000, 980).empty());
+
+    // the best target run's reward decides the heading: a best reward of 0 is no best policy
+    const auto best_target = [&](double reward) {
+        {
+            auto connection = db::open_database(dir / "camp" / "campaign.db", db::OpenMode::read_write);
+            connection.exec(concat("UPDATE campaign_run SET best_reward = 0 WHERE step = 'target'; "
+                                   "UPDATE campaign_run SET best_reward = ", reward,
+                                   " WHERE file = 'target/sum/seed-1.db'"));
+        }
+        REQUIRE(run_cli({"report", (dir / "camp").string(), "--out", (dir / "rep").string(), "--quiet", "--force"})
+                    .exit_code == 0);
+        return test::read_file(dir / "rep" / "index.html");
+    };
+    const auto none_scored = best_target(0.0);
+    CHECK(none_scored.find("No target policy scored") != std::string::npos);
+    CHECK(none_scored.find("The best target policy") == std::string::npos);
+    const auto one_scored = best_target(0.25);
+    CHECK(one_scored.find("The best target policy") != std::string::npos);
+    CHECK(one_scored.find("The best policy of target/sum/seed-1.db") != std::string::npos);
 }
 
 TEST_CASE("a run file older than the milestones still reports, and says what it lacks") {
