@@ -2,7 +2,6 @@
 
 #include <iostream>
 #include <memory>
-
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
@@ -48,8 +47,8 @@ void run_db_info(const DbInfoOptions& options) {
     std::snprintf(app_id, sizeof app_id, "0x%08x", info.application_id);
     std::cout << "file            " << options.file << '\n'
               << "application_id  " << app_id << " (stepstone)\n"
-              << "schema_version  " << info.schema_version << " (this program: " << db::latest_schema_version()
-              << ")\n"
+              << "schema_version  " << info.schema_version
+              << " (this program: " << db::latest_schema_version() << ")\n"
               << "integrity       ok\n"
               << "tables          " << tables.size() << '\n';
     for (const auto& table : tables) {

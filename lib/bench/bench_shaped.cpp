@@ -2,13 +2,14 @@
 // (every child's r_max looked up in a KB a source run grew) against the same
 // generation unshaped, the way a run pays for it.
 
+#include "bench/bench_shaped.hpp"
+
 #include <memory>
 #include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
 
-#include "bench/bench_shaped.hpp"
 #include "bench/cases.hpp"
 #include "core/embedded.hpp"
 #include "core/error.hpp"
@@ -62,8 +63,8 @@ const kb::KnowledgeBase& source_kb(Size size, double delta) {
     const std::size_t width = task->behaviour_size();
     for (std::size_t i = 0; i < genomes.size(); ++i) {
         const std::span<const float> behaviour(behaviours.data() + i * width, width);
-        kb.observe(kb::segment_behaviour(behaviour, sim::kChannels, params.segment_width), evaluations[i].reward,
-                   {source, static_cast<std::int64_t>(i)});
+        kb.observe(kb::segment_behaviour(behaviour, sim::kChannels, params.segment_width),
+                   evaluations[i].reward, {source, static_cast<std::int64_t>(i)});
     }
     built.push_back(std::make_unique<std::pair<std::pair<Size, double>, kb::KnowledgeBase>>(
         std::make_pair(size, delta), std::move(kb)));
@@ -76,7 +77,8 @@ Work side(Size size, const kb::KnowledgeBase* kb) {
     auto state = std::make_shared<nlohmann::json>(nlohmann::json::parse(fixture("generation.json")));
     // Size::quick: the first 12 members (whole evaluations: their diversity
     // compares trajectories of the stored length)
-    if (size == Size::quick) state->at("population").erase(state->at("population").begin() + 12, state->at("population").end());
+    if (size == Size::quick)
+        state->at("population").erase(state->at("population").begin() + 12, state->at("population").end());
     exp::EvolveConfig config;
     config.task.kind = sim::TaskKind::target;
     config.ea.population_size = static_cast<int>(state->at("population").size());
@@ -101,13 +103,14 @@ ShapedKbShape shaped_kb_shape(Size size, double delta) {
 void add_shaped_cases(Registry& registry) {
     for (const double delta : kShapedDeltas) {
         const std::string name = delta == kShapedDeltas[0] ? "shaped-1.83" : "shaped-3.84";
-        registry.add(Case{name, "evaluations",
-                          "one target-task generation (population 100, 12,000 steps an evaluation, diversity, "
-                          "selection) shaped by sum with a KB grown from 500 policies of a source run at delta " +
-                              std::string(delta == kShapedDeltas[0] ? "1.83" : "3.84") + " vs the same generation unshaped",
-                          0.8, [delta](Size size) {
-                              return Workload{side(size, nullptr), side(size, &source_kb(size, delta))};
-                          }});
+        registry.add(Case{
+            name, "evaluations",
+            "one target-task generation (population 100, 12,000 steps an evaluation, diversity, "
+            "selection) shaped by sum with a KB grown from 500 policies of a source run at delta " +
+                std::string(delta == kShapedDeltas[0] ? "1.83" : "3.84") + " vs the same generation unshaped",
+            0.8, [delta](Size size) {
+                return Workload{side(size, nullptr), side(size, &source_kb(size, delta))};
+            }});
     }
 }
 

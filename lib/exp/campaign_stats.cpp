@@ -108,7 +108,8 @@ CampaignStats campaign_stats(const fs::path& dir, std::optional<int> generation,
             // resuming cannot help: the campaign asks for fewer generations
             throw ConfigError(concat("--generation ", *generation, " is beyond the ", run.generations,
                                      " generations the campaign's target runs are asked for (",
-                                     (dir / run.file).string(), "); use --generation ", run.generations, " or less"));
+                                     (dir / run.file).string(), "); use --generation ", run.generations,
+                                     " or less"));
         }
         if (available_only && !fs::exists(dir / run.file)) {
             stats.skipped.push_back(run.file);

@@ -314,7 +314,8 @@ double KnowledgeBase::r_max(Segments segments) const {
     const std::vector<float> distinct = distinct_of(segments, slot);
     const std::optional<double> delta =
         params_.match == Match::within_delta ? std::optional<double>(params_.delta) : std::nullopt;
-    return positive->r_max(distinct.data(), distinct.size() / params_.dim(), delta, index_, values_, records_);
+    return positive->r_max(distinct.data(), distinct.size() / params_.dim(), delta, index_, values_,
+                           records_);
 }
 
 std::optional<Neighbour> KnowledgeBase::nearest(std::span<const float> segment) const {

@@ -57,8 +57,9 @@ std::unique_ptr<SalientIndex> SalientIndex::build(std::size_t width, std::size_t
     }
     if (positive.size() * 2 > records.size()) return nullptr;
     // by decreasing average, ties by id (any order would do: bands compare ids)
-    std::stable_sort(positive.begin(), positive.end(),
-                     [&](std::size_t a, std::size_t b) { return records[a].average() > records[b].average(); });
+    std::stable_sort(positive.begin(), positive.end(), [&](std::size_t a, std::size_t b) {
+        return records[a].average() > records[b].average();
+    });
 
     const std::size_t dim = width * channels;
     const auto make_band = [&](std::size_t begin, std::size_t end) {
@@ -87,7 +88,8 @@ std::unique_ptr<SalientIndex> SalientIndex::build(std::size_t width, std::size_t
     double fraction = 0.0;
     const std::size_t samples = std::min<std::size_t>(16, positive.size());
     for (std::size_t k = 0; k < samples; ++k)
-        fraction += all->index.candidate_fraction(all->values.data() + (k * positive.size() / samples) * dim, delta);
+        fraction +=
+            all->index.candidate_fraction(all->values.data() + (k * positive.size() / samples) * dim, delta);
     fraction /= static_cast<double>(samples);
     if (fraction <= kBandsAbove || positive.size() <= kFirstBand) {
         salient->bands_.push_back(std::move(all));
@@ -121,7 +123,8 @@ double SalientIndex::r_max(const float* queries, std::size_t count, std::optiona
         if (delta) {
             // all at once: the index interleaves their walks
             gathered.clear();
-            for (const std::size_t i : open) gathered.insert(gathered.end(), queries + i * dim, queries + (i + 1) * dim);
+            for (const std::size_t i : open)
+                gathered.insert(gathered.end(), queries + i * dim, queries + (i + 1) * dim);
             found.assign(open.size(), std::nullopt);
             band->index.nearest_within_batch(band->values, gathered.data(), open.size(), *delta, found);
             for (std::size_t k = 0; k < open.size(); ++k)
@@ -146,8 +149,8 @@ double SalientIndex::r_max(const float* queries, std::size_t count, std::optiona
             if (!(average(i) > r_max)) break;
             const float* query = queries + i * dim;
             const double radius = radius_covering(nearest[i].squared_distance);
-            const auto match =
-                std::isfinite(radius) ? full.nearest_within(values, query, radius) : full.nearest(values, query);
+            const auto match = std::isfinite(radius) ? full.nearest_within(values, query, radius)
+                                                     : full.nearest(values, query);
             STEPSTONE_ASSERT(match.has_value());
             r_max = std::max(r_max, records[match->id].average());
             settled[i] = true;

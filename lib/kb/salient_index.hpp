@@ -54,8 +54,9 @@ public:
     /// lookup().r_max of the `count` segments at `queries` (dim() values
     /// each, finite) against the KB of `values` and `records`, indexed by
     /// `full`: within `delta` when set, else whatever the distance.
-    double r_max(const float* queries, std::size_t count, std::optional<double> delta, const SegmentIndex& full,
-                 std::span<const float> values, std::span<const SegmentRecord> records) const;
+    double r_max(const float* queries, std::size_t count, std::optional<double> delta,
+                 const SegmentIndex& full, std::span<const float> values,
+                 std::span<const SegmentRecord> records) const;
 
     /// Bytes per positive segment (values, KB id and index).
     double bytes_per_segment() const;
@@ -63,10 +64,10 @@ public:
 private:
     struct Band {
         explicit Band(std::size_t width, std::size_t channels) : index(width, channels) {}
-        std::vector<std::size_t> ids;       // KB id of each segment of the band, increasing
-        detail::HugeVector<float> values;   // their values, back to back
+        std::vector<std::size_t> ids;      // KB id of each segment of the band, increasing
+        detail::HugeVector<float> values;  // their values, back to back
         SegmentIndex index;
-        double lowest = 0.0;                // the band's lowest average
+        double lowest = 0.0;  // the band's lowest average
     };
     SalientIndex() = default;
 

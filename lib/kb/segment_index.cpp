@@ -73,7 +73,8 @@ bool prefix_exceeds(float prefix, double bound) {
 
 double radius_covering(double squared_distance) {
     double radius = std::max(std::sqrt(squared_distance), 1e-150);
-    while (!(radius * radius > squared_distance) && std::isfinite(radius)) radius = std::nextafter(radius, HUGE_VAL);
+    while (!(radius * radius > squared_distance) && std::isfinite(radius))
+        radius = std::nextafter(radius, HUGE_VAL);
     return radius;
 }
 

@@ -329,10 +329,12 @@ void campaign_report(const ReportOptions& options, const fs::path& dir, ReportSu
         const bool scored = *target->best_reward > 0;
         page.heading(scored ? "The best target policy" : "No target policy scored");
         if (!scored) {
-            page.paragraph(concat("No target run has a policy that collected a ball (every best reward is 0). "
-                                  "Below: the first stored policy of ", xml_escape(target->file),
-                                  ", to show where such policies drive; the milestones above say how far the "
-                                  "runs got."));
+            page.paragraph(
+                concat("No target run has a policy that collected a ball (every best reward is 0). "
+                       "Below: the first stored policy of ",
+                       xml_escape(target->file),
+                       ", to show where such policies drive; the milestones above say how far the "
+                       "runs got."));
         }
         // coloured by the KB the run was shaped with
         const bool randomized = target->treatment.ends_with("-rand");

@@ -102,9 +102,11 @@ HttpServer::HttpServer(const ServeOptions& options) : impl_(std::make_unique<Imp
     if (token.empty() && options.writable) throw ConfigError("--writable needs --token-file (writes need the token)");
     if (options.port < 0 || options.port > 65535) throw ConfigError(concat("--port must be within 0 to 65535, got ", options.port));
     if (!(options.timeout_seconds >= 1 && options.timeout_seconds <= 3600)) {
-        throw ConfigError(concat("--timeout must be within 1 to 3600 seconds, got ", shortest(options.timeout_seconds)));
+        throw ConfigError(
+            concat("--timeout must be within 1 to 3600 seconds, got ", shortest(options.timeout_seconds)));
     }
-    if (options.threads > 1024) throw ConfigError(concat("--threads must be within 1 to 1024, got ", options.threads));
+    if (options.threads > 1024)
+        throw ConfigError(concat("--threads must be within 1 to 1024, got ", options.threads));
 
     impl_->service = std::make_unique<KbService>(options.input, options.writable, options.limits);
     KbService& service = *impl_->service;

@@ -344,6 +344,7 @@ TEST_CASE("db info says a file fails SQLite's integrity check and leaves it as i
     std::string damaged = run_bytes;
     for (std::size_t k = 0; k < 600; ++k) damaged[page * 4096 + 8 + k] = '\xff';
     test::write_file(dir / "damaged.db", damaged);
-    check_refused(test::run_cli({"db", "info", (dir / "damaged.db").string()}), 1, "fails SQLite's integrity check");
+    check_refused(test::run_cli({"db", "info", (dir / "damaged.db").string()}), 1,
+                  "fails SQLite's integrity check");
     CHECK(test::read_file(dir / "damaged.db") == damaged);
 }

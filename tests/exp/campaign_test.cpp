@@ -286,7 +286,8 @@ TEST_CASE("stats --available compares the runs that have reached the generation 
     const auto beyond = test::run_cli({"stats", camp.string(), "--available", "--generation", "7"});
     CHECK(beyond.exit_code == 2);
     CHECK(beyond.err_lines().size() == 1);
-    CHECK_THAT(beyond.err, Contains("--generation 7 is beyond the 2 generations") && Contains("use --generation 2"));
+    CHECK_THAT(beyond.err,
+               Contains("--generation 7 is beyond the 2 generations") && Contains("use --generation 2"));
     // every run back at generation 0: none has reached 1 yet
     for (const auto& entry : std::filesystem::recursive_directory_iterator(camp / "target")) {
         if (entry.path().extension() != ".db") continue;
@@ -316,11 +317,13 @@ TEST_CASE("stats reports a missing, corrupt or unfinished run file", "[exp][camp
         const auto result = test::run_cli({"stats", camp.string(), "--generation", "5"});
         CHECK(result.exit_code == 2);
         CHECK(result.err_lines().size() == 1);
-        CHECK_THAT(result.err, Contains("--generation 5 is beyond the 2 generations") && Contains("use --generation 2"));
+        CHECK_THAT(result.err,
+                   Contains("--generation 5 is beyond the 2 generations") && Contains("use --generation 2"));
     }
     SECTION("a generation an unfinished run has not reached") {
         {
-            auto connection = db::open_database(camp / "target" / "sum" / "seed-1.db", db::OpenMode::read_write);
+            auto connection =
+                db::open_database(camp / "target" / "sum" / "seed-1.db", db::OpenMode::read_write);
             connection.exec("DELETE FROM generation WHERE generation > 0");
         }
         const auto result = test::run_cli({"stats", camp.string(), "--generation", "2"});

@@ -1,19 +1,20 @@
-#include <catch2/catch.hpp>
+#include "kb/salient_index.hpp"
 
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <cstdint>
 #include <vector>
 
 #include "core/rng.hpp"
 #include "kb/knowledge_base.hpp"
-#include "kb/salient_index.hpp"
 #include "oracle.hpp"
 
 using namespace stepstone;
 
 namespace {
 
-kb::KbParams params_of(std::size_t width, std::size_t channels, double delta, kb::Match match = kb::Match::within_delta) {
+kb::KbParams params_of(std::size_t width, std::size_t channels, double delta,
+                       kb::Match match = kb::Match::within_delta) {
     kb::KbParams p;
     p.segment_width = width;
     p.channels = channels;
@@ -44,8 +45,9 @@ std::vector<kb::SegmentRecord> zero_heavy_records(Rng& rng, std::size_t n, doubl
     for (auto& r : records) {
         r.count = 1 + rng.below(3);
         if (rng.uniform() < positive_share) {
-            r.cum_reward = rng.uniform() < 0.5 ? static_cast<double>(1 + rng.below(4)) / 24.0 * static_cast<double>(r.count)
-                                               : rng.uniform() * static_cast<double>(r.count);
+            r.cum_reward = rng.uniform() < 0.5
+                               ? static_cast<double>(1 + rng.below(4)) / 24.0 * static_cast<double>(r.count)
+                               : rng.uniform() * static_cast<double>(r.count);
         }
     }
     return records;
@@ -62,7 +64,8 @@ void require_oracle(const kb::KnowledgeBase& kb, const std::vector<float>& value
         for (std::size_t i = 0; i < per_policy; ++i) {
             const std::size_t near = rng.below(records.size());
             for (std::size_t d = 0; d < dim; ++d)
-                queries[i * dim + d] = values[near * dim + d] + static_cast<float>(rng.uniform(-spread, spread));
+                queries[i * dim + d] =
+                    values[near * dim + d] + static_cast<float>(rng.uniform(-spread, spread));
         }
         const double expected = oracle_r_max(values, records, dim, kb.params().delta,
                                              kb.params().match == kb::Match::nearest, queries);
@@ -74,7 +77,8 @@ void require_oracle(const kb::KnowledgeBase& kb, const std::vector<float>& value
 
 }  // namespace
 
-TEST_CASE("r_max through the positive segments equals a linear scan on zero-heavy KBs", "[kb][lookup][salient]") {
+TEST_CASE("r_max through the positive segments equals a linear scan on zero-heavy KBs",
+          "[kb][lookup][salient]") {
     const std::size_t dim = 12;
     const std::vector<kb::Source> sources{{"run", 0, 9, 100}};
     for (const std::uint64_t seed : {1u, 2u, 3u}) {
@@ -84,7 +88,8 @@ TEST_CASE("r_max through the positive segments equals a linear scan on zero-heav
         // a small delta (few candidates: one band) and a large one (bands)
         for (const double delta : {0.3, 0.9}) {
             for (const kb::Match match : {kb::Match::within_delta, kb::Match::nearest}) {
-                const auto kb = kb::KnowledgeBase::from_segments(params_of(3, 4, delta, match), sources, values, records);
+                const auto kb =
+                    kb::KnowledgeBase::from_segments(params_of(3, 4, delta, match), sources, values, records);
                 require_oracle(kb, values, records, rng, 30, 40, 0.25);
             }
         }
@@ -100,8 +105,8 @@ TEST_CASE("the positive segments are cut into bands only when searches check man
     const auto wide = kb::SalientIndex::build(3, 4, 2.0, values, records);
     REQUIRE(tight);
     REQUIRE(wide);
-    const auto positive = static_cast<std::size_t>(
-        std::count_if(records.begin(), records.end(), [](const kb::SegmentRecord& r) { return r.average() > 0; }));
+    const auto positive = static_cast<std::size_t>(std::count_if(
+        records.begin(), records.end(), [](const kb::SegmentRecord& r) { return r.average() > 0; }));
     CHECK(tight->size() == positive);
     CHECK(wide->size() == positive);
     CHECK(tight->bands() == 1);
@@ -143,7 +148,8 @@ TEST_CASE("a positive segment within delta gives way to a nearer one averaging 0
     CHECK(kb.r_max(kb::Segments{none, 1}) == 0.0);
 }
 
-TEST_CASE("r_max follows the KB when observe, merge or randomize change its averages", "[kb][lookup][salient]") {
+TEST_CASE("r_max follows the KB when observe, merge or randomize change its averages",
+          "[kb][lookup][salient]") {
     // 1-D KB: ten segments averaging 0 at 0, 10, ..., 90 and one at 5
     // averaging 0.5; delta 1
     std::vector<float> values;
@@ -172,7 +178,8 @@ TEST_CASE("r_max follows the KB when observe, merge or randomize change its aver
     // merging a KB whose segment at 5 brings 2.5 over 1 count: (0.5 + 2.5) / 2
     const std::vector<float> other_values{5.0f};
     const std::vector<kb::SegmentRecord> other_records{{2.5, 1, {0, 0}, {0, 0}}};
-    const auto other = kb::KnowledgeBase::from_segments(params_of(1, 1, 1.0), sources, other_values, other_records);
+    const auto other =
+        kb::KnowledgeBase::from_segments(params_of(1, 1, 1.0), sources, other_values, other_records);
     kb.merge(other);
     CHECK(kb.r_max(kb::Segments{policy, 1}) == 1.5);
 
@@ -184,7 +191,8 @@ TEST_CASE("r_max follows the KB when observe, merge or randomize change its aver
     CHECK(kb.r_max(kb::Segments{at_0, 1}) == 0.0);
 }
 
-TEST_CASE("a band's search goes on while r_max stays below the band's lowest average", "[kb][lookup][salient]") {
+TEST_CASE("a band's search goes on while r_max stays below the band's lowest average",
+          "[kb][lookup][salient]") {
     // by hand, 1-D, delta 10. Positive segments: ids 0-255 at x = id with
     // average 1 - id / 1000 (the top band of 256), ids 256-299 below them
     // (0.744 down to 0.701): id 299 at x = 257.5, id 256 at x = 5000, the others
@@ -193,9 +201,12 @@ TEST_CASE("a band's search goes on while r_max stays below the band's lowest ave
     std::vector<kb::SegmentRecord> records;
     for (int id = 0; id < 300; ++id) {
         float x = static_cast<float>(id);
-        if (id == 299) x = 257.5f;
-        else if (id == 256) x = 5000.0f;
-        else if (id > 256) x = static_cast<float>(6000 + id);
+        if (id == 299)
+            x = 257.5f;
+        else if (id == 256)
+            x = 5000.0f;
+        else if (id > 256)
+            x = static_cast<float>(6000 + id);
         values.push_back(x);
         records.push_back({1.0 - id / 1000.0, 1, {0, 0}, {0, 0}});
     }

@@ -112,11 +112,13 @@ TEST_CASE("a campaign's report compares the treatments and shows the KB and the 
     const auto best_target = [&](double reward) {
         {
             auto connection = db::open_database(dir / "camp" / "campaign.db", db::OpenMode::read_write);
-            connection.exec(concat("UPDATE campaign_run SET best_reward = 0 WHERE step = 'target'; "
-                                   "UPDATE campaign_run SET best_reward = ", reward,
-                                   " WHERE file = 'target/sum/seed-1.db'"));
+            connection.exec(
+                concat("UPDATE campaign_run SET best_reward = 0 WHERE step = 'target'; "
+                       "UPDATE campaign_run SET best_reward = ",
+                       reward, " WHERE file = 'target/sum/seed-1.db'"));
         }
-        REQUIRE(run_cli({"report", (dir / "camp").string(), "--out", (dir / "rep").string(), "--quiet", "--force"})
+        REQUIRE(run_cli({"report", (dir / "camp").string(), "--out", (dir / "rep").string(), "--quiet",
+                         "--force"})
                     .exit_code == 0);
         return test::read_file(dir / "rep" / "index.html");
     };

@@ -308,7 +308,8 @@ TEST_CASE("unsafe or bad serve options are refused before listening") {
     refused({"--writable"}, "--writable needs --token-file");
     refused({"--token-file", (dir / "short").string()}, "the token must have at least 16 characters");
     refused({"--port", "70000"}, "--port must be within 0 to 65535");
-    for (const char* timeout : {"-1", "0", "1e30", "nan"}) refused({"--timeout", timeout}, "--timeout must be within 1 to 3600 seconds");
+    for (const char* timeout : {"-1", "0", "1e30", "nan"})
+        refused({"--timeout", timeout}, "--timeout must be within 1 to 3600 seconds");
     refused({"--threads", "5000"}, "--threads must be within 1 to 1024");
     const auto missing = test::run_cli({"serve", (dir / "none.db").string()});
     CHECK(missing.exit_code == 2);
