@@ -161,7 +161,8 @@ void add_calibrate(CLI::App& kb_cmd) {
         "--neighbours", flags->neighbours,
         "Nearest segments averaged by the rule (default: " + std::to_string(flags->neighbours) + ")");
     cmd->add_option("--threads", flags->threads,
-                    "Replays and size-table KBs at once (default: all cores); results do not depend on it");
+                    "Replays and size-table KBs at once, 1 to 1024 (default: all cores); results do not depend on it")
+        ->check(CLI::Range(1u, 1024u));
     cmd->add_flag("--json", flags->json, "Print JSON instead of text");
     cmd->add_flag("--quiet", flags->quiet, "No progress on stderr");
     cmd->footer(example({"stepstone kb calibrate run.db --individual best",

@@ -348,3 +348,16 @@ TEST_CASE("db info says a file fails SQLite's integrity check and leaves it as i
                   "fails SQLite's integrity check");
     CHECK(test::read_file(dir / "damaged.db") == damaged);
 }
+
+TEST_CASE("a thread count of 0 is refused by evolve and kb calibrate in one line (1 to 1024)", "[cli][harden][errors]") {
+    test::TempDir dir;
+    test::write_file(dir / "c.json", kTinyConfig);
+    const auto evolve = test::run_cli(
+        {"evolve", "--config", (dir / "c.json").string(), "--db", (dir / "run.db").string(), "--threads", "0"});
+    check_refused(evolve, 2, "--threads");
+    CHECK_FALSE(fs::exists(dir / "run.db"));
+    REQUIRE(test::run_cli({"evolve", "--config", (dir / "c.json").string(), "--db", (dir / "run.db").string(),
+                           "--threads", "1", "--quiet"})
+                .exit_code == 0);
+    check_refused(test::run_cli({"kb", "calibrate", (dir / "run.db").string(), "--threads", "0"}), 2, "--threads");
+}
