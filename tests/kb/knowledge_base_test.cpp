@@ -14,14 +14,7 @@ using Catch::Matchers::Contains;
 
 namespace {
 
-kb::KbParams params_of(std::size_t width, std::size_t channels, double delta, kb::Match match = kb::Match::within_delta) {
-    kb::KbParams p;
-    p.segment_width = width;
-    p.channels = channels;
-    p.delta = delta;
-    p.match = match;
-    return p;
-}
+using kbtest::params_of;
 
 // observes `policies` policies of `per_policy` segments into both KBs and
 // requires identical contents after every policy

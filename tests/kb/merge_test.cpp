@@ -13,13 +13,7 @@ using Catch::Matchers::Contains;
 
 namespace {
 
-kb::KbParams params_of(std::size_t width, std::size_t channels, double delta) {
-    kb::KbParams p;
-    p.segment_width = width;
-    p.channels = channels;
-    p.delta = delta;
-    return p;
-}
+using kbtest::params_of;
 
 kb::KnowledgeBase from_values(const kb::KbParams& p, const std::string& run, std::vector<float> values,
                               std::vector<kb::SegmentRecord> records) {

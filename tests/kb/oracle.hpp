@@ -11,8 +11,20 @@
 #include <vector>
 
 #include "core/rng.hpp"
+#include "kb/knowledge_base.hpp"
 
 namespace kbtest {
+
+/// KB parameters of segments of `width` x `channels` values matched within `delta` (or by `match`).
+inline stepstone::kb::KbParams params_of(std::size_t width, std::size_t channels, double delta,
+                                         stepstone::kb::Match match = stepstone::kb::Match::within_delta) {
+    stepstone::kb::KbParams p;
+    p.segment_width = width;
+    p.channels = channels;
+    p.delta = delta;
+    p.match = match;
+    return p;
+}
 
 /// The documented distance order (kb/distance.hpp): value k goes to lane
 /// k % 8, lanes summed as ((l0 + l1) + (l2 + l3)) + ((l4 + l5) + (l6 + l7)).

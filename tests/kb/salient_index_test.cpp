@@ -13,15 +13,7 @@ using namespace stepstone;
 
 namespace {
 
-kb::KbParams params_of(std::size_t width, std::size_t channels, double delta,
-                       kb::Match match = kb::Match::within_delta) {
-    kb::KbParams p;
-    p.segment_width = width;
-    p.channels = channels;
-    p.delta = delta;
-    p.match = match;
-    return p;
-}
+using kbtest::params_of;
 
 // r_max by linear scan, straight from the definition: each query's nearest KB
 // segment (lowest id on ties), within delta unless `nearest`, gives its
