@@ -19,7 +19,15 @@ namespace stepstone::app {
 
 namespace {
 
-void print_written(const std::string& out, const exp::KbWritten& kb) { write_written(std::cout, out, kb); }
+void print_written(const std::string& out, const exp::KbWritten& kb) {
+    write_written(std::cout, out, kb);
+    // what evolve says when such a KB shapes a run, said when it is made
+    if (!(kb.max_average > 0.0)) {
+        std::cerr << "stepstone: warning: " << out
+                  << ": the knowledge base's largest average reward is 0, so shaping with it (sum, mo) selects as "
+                     "none would\n";
+    }
+}
 
 // ------------------------------------------------------------------- export
 

@@ -16,7 +16,7 @@ namespace {
 std::string file_name(const fs::path& path) { return path.string(); }
 
 KbWritten written(const std::string& name, const kb::KnowledgeBase& kb, std::optional<std::uint64_t> seed) {
-    return {name, kb.params(), kb.size(), seed};
+    return {name, kb.params(), kb.size(), seed, kb.max_average()};
 }
 
 // writes one KB as the only content of a new file, atomically

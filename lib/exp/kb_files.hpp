@@ -22,6 +22,7 @@ struct KbWritten {
     kb::KbParams params;                           ///< its shape and rule
     std::size_t segments = 0;                      ///< its size
     std::optional<std::uint64_t> randomized_seed;  ///< set for a randomized KB
+    double max_average = 0.0;                      ///< its largest average reward (0 if empty)
 };
 
 /// Loads the KB called `name` (empty: the only one) of the file at `path`,

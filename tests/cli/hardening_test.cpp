@@ -244,6 +244,22 @@ TEST_CASE("sum and mo with a KB whose largest average reward is 0 warn", "[cli][
                                  "--kb", (dir / "some.db").string(), "--treatment", "sum", "--quiet"});
     CHECK(result.exit_code == 0);
     CHECK(result.err.empty());
+
+    // kb export and kb merge say it when they write such a KB, and only then
+    for (const auto& args : std::vector<std::vector<std::string>>{
+             {"kb", "export", (dir / "zero.db").string(), "--name", "zero", "--out", (dir / "zero-out.db").string()},
+             {"kb", "merge", (dir / "zero.db").string(), (dir / "zero.db").string(), "--allow-duplicates", "--out",
+              (dir / "zero-merged.db").string()}}) {
+        INFO(args[1]);
+        result = test::run_cli(args);
+        CHECK(result.exit_code == 0);
+        REQUIRE(result.err_lines().size() == 1);
+        CHECK_THAT(result.err_lines()[0], StartsWith("stepstone: warning: ") && Contains("largest average reward is 0"));
+    }
+    result = test::run_cli(
+        {"kb", "export", (dir / "some.db").string(), "--name", "some", "--out", (dir / "some-out.db").string()});
+    CHECK(result.exit_code == 0);
+    CHECK(result.err.empty());
 }
 
 TEST_CASE("a mistyped command suggests the nearest one", "[cli][harden][errors]") {
