@@ -1,5 +1,6 @@
 // stepstone render: a stored policy's trajectory, coloured by the saliency of its segments
 
+#include <algorithm>
 #include <charconv>
 #include <iostream>
 #include <memory>
@@ -83,8 +84,12 @@ void run_render(const RenderFlags& flags) {
     report::Canvas canvas(layout.width, layout.height, format);
     report::draw_trajectory(canvas, trace, options, layout);
     canvas.save(flags.out, flags.force);
+    // the steps drawn, as draw_trajectory clamps them (B is one past the last)
+    const int ran = static_cast<int>(trace.steps.size());
+    const int drawn_end = last < 0 ? ran : std::clamp(last, first, ran);
     std::cout << "individual " << trace.individual_id << " (generation " << trace.generation << "), start "
-              << flags.start << ", " << trace.steps.size() << " steps, reward " << trace.reward << '\n';
+              << flags.start << ", " << ran << " steps run, steps " << first << " to " << drawn_end
+              << " drawn (" << drawn_end - first << "), reward " << trace.reward << '\n';
     if (stored) std::cout << "knowledge base \"" << stored->name << "\": r_max " << trace.r_max << '\n';
     std::cout << "wrote " << flags.out << '\n';
     if (!flags.saliency_out.empty()) {

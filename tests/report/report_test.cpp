@@ -187,6 +187,9 @@ TEST_CASE("render draws a stored policy as PNG or SVG, and refuses bad options w
                               "--individual", "best", "--steps", "0:30"});
     REQUIRE(svg.exit_code == 0);
     CHECK(reporttest::parse_svg(test::read_file(dir / "t.svg")).titles == 30);
+    // it says which steps it drew, not only how many the start ran
+    CHECK(svg.out.find("steps 0 to 30 drawn (30)") != std::string::npos);
+    CHECK(png.out.find("steps 10 to 150 drawn (140)") != std::string::npos);
 
     const auto before = reporttest::entries(dir.path());
     const auto refused = [&](const std::vector<std::string>& extra, const std::string& message) {
