@@ -95,7 +95,8 @@ void add_evolve_command(CLI::App& app) {
     cmd->add_option("--seed", flags->seed, "Run seed (default: the config's, else drawn and stored)")->check(kNotEmpty);
     cmd->add_option("--generations", flags->generations, "Epochs after the random generation 0 (overrides ea.generations)")
         ->check(kNotEmpty);
-    cmd->add_option("--threads", flags->threads, "Evaluation threads, 1 to 1024 (default: all cores); results do not depend on it")
+    cmd->add_option("--threads", flags->threads,
+                    "Evaluation threads, 1 to 1024 (default: all cores); results do not depend on it")
         ->check(kNotEmpty)
         ->check(CLI::Range(1u, 1024u));
     cmd->add_option("--retain", flags->retain, "Genomes to store: front (first front + best, default) or all")

@@ -23,9 +23,10 @@ void print_written(const std::string& out, const exp::KbWritten& kb) {
     write_written(std::cout, out, kb);
     // what evolve says when such a KB shapes a run, said when it is made
     if (!(kb.max_average > 0.0)) {
-        std::cerr << "stepstone: warning: " << out
-                  << ": the knowledge base's largest average reward is 0, so shaping with it (sum, mo) selects as "
-                     "none would\n";
+        std::cerr
+            << "stepstone: warning: " << out
+            << ": the knowledge base's largest average reward is 0, so shaping with it (sum, mo) selects as "
+               "none would\n";
     }
 }
 
@@ -168,8 +169,9 @@ void add_calibrate(CLI::App& kb_cmd) {
     cmd->add_option(
         "--neighbours", flags->neighbours,
         "Nearest segments averaged by the rule (default: " + std::to_string(flags->neighbours) + ")");
-    cmd->add_option("--threads", flags->threads,
-                    "Replays and size-table KBs at once, 1 to 1024 (default: all cores); results do not depend on it")
+    cmd->add_option(
+           "--threads", flags->threads,
+           "Replays and size-table KBs at once, 1 to 1024 (default: all cores); results do not depend on it")
         ->check(CLI::Range(1u, 1024u));
     cmd->add_flag("--json", flags->json, "Print JSON instead of text");
     cmd->add_flag("--quiet", flags->quiet, "No progress on stderr");

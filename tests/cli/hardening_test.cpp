@@ -247,17 +247,19 @@ TEST_CASE("sum and mo with a KB whose largest average reward is 0 warn", "[cli][
 
     // kb export and kb merge say it when they write such a KB, and only then
     for (const auto& args : std::vector<std::vector<std::string>>{
-             {"kb", "export", (dir / "zero.db").string(), "--name", "zero", "--out", (dir / "zero-out.db").string()},
-             {"kb", "merge", (dir / "zero.db").string(), (dir / "zero.db").string(), "--allow-duplicates", "--out",
-              (dir / "zero-merged.db").string()}}) {
+             {"kb", "export", (dir / "zero.db").string(), "--name", "zero", "--out",
+              (dir / "zero-out.db").string()},
+             {"kb", "merge", (dir / "zero.db").string(), (dir / "zero.db").string(), "--allow-duplicates",
+              "--out", (dir / "zero-merged.db").string()}}) {
         INFO(args[1]);
         result = test::run_cli(args);
         CHECK(result.exit_code == 0);
         REQUIRE(result.err_lines().size() == 1);
-        CHECK_THAT(result.err_lines()[0], StartsWith("stepstone: warning: ") && Contains("largest average reward is 0"));
+        CHECK_THAT(result.err_lines()[0],
+                   StartsWith("stepstone: warning: ") && Contains("largest average reward is 0"));
     }
-    result = test::run_cli(
-        {"kb", "export", (dir / "some.db").string(), "--name", "some", "--out", (dir / "some-out.db").string()});
+    result = test::run_cli({"kb", "export", (dir / "some.db").string(), "--name", "some", "--out",
+                            (dir / "some-out.db").string()});
     CHECK(result.exit_code == 0);
     CHECK(result.err.empty());
 }
@@ -365,15 +367,17 @@ TEST_CASE("db info says a file fails SQLite's integrity check and leaves it as i
     CHECK(test::read_file(dir / "damaged.db") == damaged);
 }
 
-TEST_CASE("a thread count of 0 is refused by evolve and kb calibrate in one line (1 to 1024)", "[cli][harden][errors]") {
+TEST_CASE("a thread count of 0 is refused by evolve and kb calibrate in one line (1 to 1024)",
+          "[cli][harden][errors]") {
     test::TempDir dir;
     test::write_file(dir / "c.json", kTinyConfig);
-    const auto evolve = test::run_cli(
-        {"evolve", "--config", (dir / "c.json").string(), "--db", (dir / "run.db").string(), "--threads", "0"});
+    const auto evolve = test::run_cli({"evolve", "--config", (dir / "c.json").string(), "--db",
+                                       (dir / "run.db").string(), "--threads", "0"});
     check_refused(evolve, 2, "--threads");
     CHECK_FALSE(fs::exists(dir / "run.db"));
     REQUIRE(test::run_cli({"evolve", "--config", (dir / "c.json").string(), "--db", (dir / "run.db").string(),
                            "--threads", "1", "--quiet"})
                 .exit_code == 0);
-    check_refused(test::run_cli({"kb", "calibrate", (dir / "run.db").string(), "--threads", "0"}), 2, "--threads");
+    check_refused(test::run_cli({"kb", "calibrate", (dir / "run.db").string(), "--threads", "0"}), 2,
+                  "--threads");
 }
