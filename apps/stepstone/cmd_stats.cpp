@@ -28,14 +28,6 @@ struct StatsFlags {
     int signal_window = 10;
 };
 
-template <typename Writer>
-void write_csv(const std::string& path, bool force, Writer writer) {
-    if (path.empty()) return;
-    OutputFile out(path, force);
-    writer(out.stream());
-    out.commit();
-}
-
 void add_stats_command(CLI::App& app) {
     auto flags = std::make_shared<StatsFlags>();
     auto* cmd = app.add_subcommand("stats",
@@ -91,12 +83,12 @@ void add_stats_command(CLI::App& app) {
             !flags->events_csv.empty() || !flags->logrank_csv.empty() || event_option->count() > 0;
         if (events_asked) exp::require_events(stats);
         exp::write_text(std::cout, stats, event);
-        write_csv(flags->csv, flags->force, [&](std::ostream& out) { exp::write_success_csv(out, stats); });
-        write_csv(flags->runs_csv, flags->force, [&](std::ostream& out) { exp::write_runs_csv(out, stats); });
-        write_csv(flags->tests_csv, flags->force, [&](std::ostream& out) { exp::write_tests_csv(out, stats); });
-        write_csv(flags->events_csv, flags->force,
+        write_output(flags->csv, flags->force, [&](std::ostream& out) { exp::write_success_csv(out, stats); });
+        write_output(flags->runs_csv, flags->force, [&](std::ostream& out) { exp::write_runs_csv(out, stats); });
+        write_output(flags->tests_csv, flags->force, [&](std::ostream& out) { exp::write_tests_csv(out, stats); });
+        write_output(flags->events_csv, flags->force,
                   [&](std::ostream& out) { exp::write_events_csv(out, stats); });
-        write_csv(flags->logrank_csv, flags->force,
+        write_output(flags->logrank_csv, flags->force,
                   [&](std::ostream& out) { exp::write_logrank_csv(out, stats); });
     });
 }

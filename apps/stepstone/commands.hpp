@@ -1,9 +1,12 @@
 #pragma once
 
 #include <initializer_list>
+#include <ostream>
 #include <string>
 
 #include <CLI/CLI.hpp>
+
+#include "core/output_file.hpp"
 
 namespace stepstone::app {
 
@@ -22,5 +25,16 @@ void add_registered_commands(CLI::App& app);
 
 /// Formats the "Example:" footer shown by --help.
 std::string example(std::initializer_list<const char*> lines);
+
+/// Writes `path` (nothing when empty) through `writer(std::ostream&)`, all or
+/// nothing: an existing file is replaced only with `force`, and only once the
+/// whole output is written.
+template <typename Writer>
+void write_output(const std::string& path, bool force, Writer writer) {
+    if (path.empty()) return;
+    OutputFile out(path, force);
+    writer(out.stream());
+    out.commit();
+}
 
 }  // namespace stepstone::app

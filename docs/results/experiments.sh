@@ -3,18 +3,24 @@
 #   e1   the positive control: 3 paper-size source runs, the best one's KB at
 #        delta 1.83, then none / sum / sum-rand x 20 seeds on the source task
 #   e2   the target task with E1's KB: none / sum / sum-rand x 20 seeds
+#   e2c  E2's completion on a machine without E1's and E2's files: the KB
+#        rebuilt from source seed 1 alone, then seeds 2012-2020 of the 3 arms
+#        (2012 of none was already run: a reproducibility check), see
+#        docs/results.md section 9, deviations
 #   csv  the statistics of whatever has finished, into docs/results/:
 #        e1_events.csv, e1_logrank.csv, e1_runs.csv, e1_tests.csv (and e2_*),
-#        the Kaplan-Meier figure as e1_kaplan_meier.png
+#        the Kaplan-Meier figure as e1_kaplan_meier.png; with e2c, its CSVs
+#        as e2_part2_* and E2 as the pool of e2_part1_* (the 34 runs of the
+#        first machine) and e2_part2_*
 # Campaign directories go under OUT (default: experiments/), never into git.
 # Run a step again after an interruption: finished runs are kept (campaign --resume).
 #
-# Usage: docs/results/experiments.sh e1|e2|csv [OUT] [STEPSTONE] [JOBS]
+# Usage: docs/results/experiments.sh e1|e2|e2c|csv [OUT] [STEPSTONE] [JOBS]
 #   e.g. nice docs/results/experiments.sh e1 /work/exp build/release/apps/stepstone/stepstone 2
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 repo="$(cd "$here/../.." && pwd)"
-step="${1:?usage: experiments.sh e1|e2|csv [OUT] [STEPSTONE] [JOBS]}"
+step="${1:?usage: experiments.sh e1|e2|e2c|csv [OUT] [STEPSTONE] [JOBS]}"
 out="${2:-experiments}"
 stepstone="${3:-stepstone}"
 jobs="${4:-2}"
@@ -30,18 +36,30 @@ campaign() {  # NAME CONFIG
     fi
 }
 
-stats() {  # NAME: the CSVs and the Kaplan-Meier figure of the runs that have finished
-    local dir="$out/$1"
+stats() {  # NAME [PREFIX]: the CSVs and the Kaplan-Meier figure of the runs that have finished
+    local dir="$out/$1" name="${2:-$1}"
     [ -f "$dir/campaign.db" ] || { echo "experiments.sh: $dir has no campaign yet" >&2; return 0; }
     local last
     last="$(sqlite3 "$dir/campaign.db" "SELECT max(generations) FROM campaign_run WHERE step = 'target'")"
     "$stepstone" stats "$dir" --available --generation "$last" --force \
-        --events-csv "$here/$1_events.csv" --logrank-csv "$here/$1_logrank.csv" \
-        --runs-csv "$here/$1_runs.csv" --tests-csv "$here/$1_tests.csv" > "$here/$1_stats.txt"
+        --events-csv "$here/${name}_events.csv" --logrank-csv "$here/${name}_logrank.csv" \
+        --runs-csv "$here/${name}_runs.csv" --tests-csv "$here/${name}_tests.csv" > "$here/${name}_stats.txt"
     "$stepstone" report "$dir" --out "$out/$1-report" --force --quiet
-    cp "$out/$1-report/kaplan-meier.png" "$here/figures/$1_kaplan_meier.png"
-    cp "$out/$1-report/milestone-shares.png" "$here/figures/$1_milestone_shares.png"
-    /usr/bin/python3 "$repo/scripts/logrank-check" "$here/$1_events.csv" "$here/$1_logrank.csv" > /dev/null
+    cp "$out/$1-report/kaplan-meier.png" "$here/figures/${name}_kaplan_meier.png"
+    cp "$out/$1-report/milestone-shares.png" "$here/figures/${name}_milestone_shares.png"
+    /usr/bin/python3 "$repo/scripts/logrank-check" "$here/${name}_events.csv" "$here/${name}_logrank.csv" > /dev/null
+}
+
+pool_e2() {  # E2 = the first machine's 34 runs and e2c's, pooled from their CSVs
+    [ -f "$here/e2_part2_runs.csv" ] || return 0
+    "$stepstone" pool --runs "$here/e2_part1_runs.csv" "$here/e2_part2_runs.csv" \
+        --events "$here/e2_part1_events.csv" "$here/e2_part2_events.csv" --force \
+        --runs-csv "$here/e2_runs.csv" --events-csv "$here/e2_events.csv" --tests-csv "$here/e2_tests.csv" \
+        --logrank-csv "$here/e2_logrank.csv" --kaplan-meier "$here/figures/e2_kaplan_meier.png" \
+        > "$here/e2_stats.txt"
+    "$stepstone" pool --runs "$here/e2_part1_runs.csv" "$here/e2_part2_runs.csv" \
+        --events "$here/e2_part1_events.csv" "$here/e2_part2_events.csv" --event release >> "$here/e2_stats.txt"
+    /usr/bin/python3 "$repo/scripts/logrank-check" "$here/e2_events.csv" "$here/e2_logrank.csv" > /dev/null
 }
 
 case "$step" in
@@ -50,6 +68,7 @@ case "$step" in
         [ -f "$out/e1/kb/kb.db" ] || { echo "experiments.sh: run e1 first (its KB is $out/e1/kb/kb.db)" >&2; exit 1; }
         ln -sf "$out/e1/kb/kb.db" "$repo/examples/experiments/source_kb.db"
         campaign e2 "$repo/examples/experiments/e2_target.json" ;;
-    csv) stats e1; stats e2 ;;
-    *) echo "experiments.sh: unknown step '$step' (e1, e2 or csv)" >&2; exit 2 ;;
+    e2c) campaign e2c "$repo/examples/experiments/e2_completion.json" ;;
+    csv) stats e1; stats e2; stats e2c e2_part2; pool_e2 ;;
+    *) echo "experiments.sh: unknown step '$step' (e1, e2, e2c or csv)" >&2; exit 2 ;;
 esac

@@ -87,6 +87,39 @@ std::string short_number(double value) {
 
 }  // namespace
 
+std::vector<PairTest> pair_tests(std::span<const TreatmentResult> treatments) {
+    std::vector<PairTest> tests;
+    std::vector<double> p;
+    for (std::size_t a = 0; a < treatments.size(); ++a) {
+        for (std::size_t b = a + 1; b < treatments.size(); ++b) {
+            const auto& ta = treatments[a];
+            const auto& tb = treatments[b];
+            PairTest test;
+            test.a = ta.treatment;
+            test.b = tb.treatment;
+            test.n_a = ta.best.size();
+            test.n_b = tb.best.size();
+            test.test = stats::mann_whitney_u(ta.best, tb.best);
+            test.a12 = stats::vargha_delaney_a12(ta.best, tb.best);
+            test.tied_share = stats::tied_share(ta.best, tb.best);
+            test.p = test.test.p;
+            test.method = test.test.method == stats::Method::exact ? PairMethod::exact : PairMethod::normal;
+            if (std::min(test.n_a, test.n_b) < kPermutationBelowRuns ||
+                test.tied_share >= kPermutationTiedShare) {
+                const stats::PermutationP permutation = stats::permutation_p(ta.best, tb.best);
+                test.p = permutation.p;
+                test.method = permutation.exact ? PairMethod::permutation : PairMethod::monte_carlo;
+                test.p_standard_error = permutation.standard_error;
+            }
+            tests.push_back(test);
+            p.push_back(test.p);
+        }
+    }
+    const auto adjusted = stats::holm(p);
+    for (std::size_t k = 0; k < tests.size(); ++k) tests[k].p_holm = adjusted[k];
+    return tests;
+}
+
 CampaignStats campaign_stats(const fs::path& dir, std::optional<int> generation, double threshold,
                              bool available_only, int signal_window) {
     if (!(threshold >= 0.0 && threshold <= 1.0)) {
@@ -171,34 +204,7 @@ CampaignStats campaign_stats(const fs::path& dir, std::optional<int> generation,
             }
         }
     }
-    std::vector<double> p;
-    for (std::size_t a = 0; a < stats.treatments.size(); ++a) {
-        for (std::size_t b = a + 1; b < stats.treatments.size(); ++b) {
-            const auto& ta = stats.treatments[a];
-            const auto& tb = stats.treatments[b];
-            PairTest test;
-            test.a = ta.treatment;
-            test.b = tb.treatment;
-            test.n_a = ta.best.size();
-            test.n_b = tb.best.size();
-            test.test = stats::mann_whitney_u(ta.best, tb.best);
-            test.a12 = stats::vargha_delaney_a12(ta.best, tb.best);
-            test.tied_share = stats::tied_share(ta.best, tb.best);
-            test.p = test.test.p;
-            test.method = test.test.method == stats::Method::exact ? PairMethod::exact : PairMethod::normal;
-            if (std::min(test.n_a, test.n_b) < kPermutationBelowRuns ||
-                test.tied_share >= kPermutationTiedShare) {
-                const stats::PermutationP permutation = stats::permutation_p(ta.best, tb.best);
-                test.p = permutation.p;
-                test.method = permutation.exact ? PairMethod::permutation : PairMethod::monte_carlo;
-                test.p_standard_error = permutation.standard_error;
-            }
-            stats.tests.push_back(test);
-            p.push_back(test.p);
-        }
-    }
-    const auto adjusted = stats::holm(p);
-    for (std::size_t k = 0; k < stats.tests.size(); ++k) stats.tests[k].p_holm = adjusted[k];
+    stats.tests = pair_tests(stats.treatments);
 
     std::vector<RunEvents> run_events;
     for (const auto& run : stats.runs) {
@@ -238,6 +244,53 @@ void require_events(const CampaignStats& stats) {
                            "; time-to-event statistics need runs made by this version"));
 }
 
+void write_treatment_tables(std::ostream& out, std::span<const TreatmentResult> treatments,
+                            std::string_view signal, int generation) {
+    char line[256];
+    std::snprintf(line, sizeof line, "%-10s %5s %8s %8s %8s %8s %8s\n", "treatment", "runs", "success", "q1",
+                  "median", "q3", "max");
+    out << line;
+    for (const auto& t : treatments) {
+        std::snprintf(line, sizeof line, "%-10s %5zu %8zu %8.4g %8.4g %8.4g %8.4g\n",
+                      std::string(to_string(t.treatment)).c_str(), t.best.size(), t.successes, t.summary.q1,
+                      t.summary.median, t.summary.q3, t.summary.max);
+        out << line;
+    }
+
+    out << "\nshaping signal (r_max: " << signal << "), and policies that collected a ball (generations 0-"
+        << generation << ")\n";
+    std::snprintf(line, sizeof line, "%-10s %8s %12s %10s\n", "treatment", "r_max", "policies", "with_ball");
+    out << line;
+    for (const auto& t : treatments) {
+        const std::string r_max = t.mean_r_max ? short_number(*t.mean_r_max) : "-";
+        std::snprintf(line, sizeof line, "%-10s %8s %12lld %10lld\n",
+                      std::string(to_string(t.treatment)).c_str(), r_max.c_str(),
+                      static_cast<long long>(t.policies), static_cast<long long>(t.ball_policies));
+        out << line;
+    }
+
+}
+
+void write_pair_tests(std::ostream& out, std::span<const PairTest> tests, int generation) {
+    char line[256];
+    if (tests.empty()) return;
+    out << "\nMann-Whitney U, two-sided, at generation " << generation
+        << " (p_holm: Holm-adjusted over the " << tests.size()
+        << " pairs; A12: P(a > b) + P(a = b) / 2;"
+        << " method: how p was obtained, permutation below " << kPermutationBelowRuns
+        << " runs an arm or with ties, docs/statistics.md)\n";
+    std::snprintf(line, sizeof line, "%-10s %-10s %4s %4s %8s %10s %10s %6s  %s\n", "a", "b", "n_a", "n_b", "U", "p",
+                  "p_holm", "A12", "method");
+    out << line;
+    for (const auto& t : tests) {
+        std::snprintf(line, sizeof line, "%-10s %-10s %4zu %4zu %8s %10.4g %10.4g %6.3f  %s\n",
+                      std::string(to_string(t.a)).c_str(), std::string(to_string(t.b)).c_str(), t.n_a, t.n_b,
+                      short_number(t.test.u).c_str(), t.p, t.p_holm, t.a12,
+                      std::string(to_string(t.method)).c_str());
+        out << line;
+    }
+}
+
 void write_text(std::ostream& out, const CampaignStats& stats, Milestone event) {
     char line[256];
     out << "campaign " << stats.dir << ": " << stats.runs.size() << " target runs at generation "
@@ -249,29 +302,10 @@ void write_text(std::ostream& out, const CampaignStats& stats, Milestone event) 
         out << "\n";
     }
     out << "\n";
-    std::snprintf(line, sizeof line, "%-10s %5s %8s %8s %8s %8s %8s\n", "treatment", "runs", "success", "q1",
-                  "median", "q3", "max");
-    out << line;
-    for (const auto& t : stats.treatments) {
-        std::snprintf(line, sizeof line, "%-10s %5zu %8zu %8.4g %8.4g %8.4g %8.4g\n",
-                      std::string(to_string(t.treatment)).c_str(), t.best.size(), t.successes, t.summary.q1,
-                      t.summary.median, t.summary.q3, t.summary.max);
-        out << line;
-    }
-
-    out << "\nshaping signal (r_max: mean over runs of the mean r_max of generations " << stats.signal_from
-        << "-" << stats.generation << "), and policies that collected a ball (generations 0-"
-        << stats.generation << ")\n";
-    std::snprintf(line, sizeof line, "%-10s %8s %12s %10s\n", "treatment", "r_max", "policies", "with_ball");
-    out << line;
-    for (const auto& t : stats.treatments) {
-        const std::string r_max = t.mean_r_max ? short_number(*t.mean_r_max) : "-";
-        std::snprintf(line, sizeof line, "%-10s %8s %12lld %10lld\n",
-                      std::string(to_string(t.treatment)).c_str(), r_max.c_str(),
-                      static_cast<long long>(t.policies), static_cast<long long>(t.ball_policies));
-        out << line;
-    }
-
+    write_treatment_tables(out, stats.treatments,
+                           concat("mean over runs of the mean r_max of generations ", stats.signal_from, "-",
+                                  stats.generation),
+                           stats.generation);
     out << "\nsuccessful runs by generation\n";
     std::snprintf(line, sizeof line, "%-10s", "generation");
     out << line;
@@ -298,22 +332,7 @@ void write_text(std::ostream& out, const CampaignStats& stats, Milestone event) 
         out << "\nmilestones: not recorded by " << stats.unrecorded.size() << " of " << stats.runs.size()
             << " target runs (written before schema 0005); no time-to-event statistics\n";
     }
-    if (stats.tests.empty()) return;
-    out << "\nMann-Whitney U, two-sided, at generation " << stats.generation
-        << " (p_holm: Holm-adjusted over the " << stats.tests.size()
-        << " pairs; A12: P(a > b) + P(a = b) / 2;"
-        << " method: how p was obtained, permutation below " << kPermutationBelowRuns
-        << " runs an arm or with ties, docs/statistics.md)\n";
-    std::snprintf(line, sizeof line, "%-10s %-10s %4s %4s %8s %10s %10s %6s  %s\n", "a", "b", "n_a", "n_b", "U", "p",
-                  "p_holm", "A12", "method");
-    out << line;
-    for (const auto& t : stats.tests) {
-        std::snprintf(line, sizeof line, "%-10s %-10s %4zu %4zu %8s %10.4g %10.4g %6.3f  %s\n",
-                      std::string(to_string(t.a)).c_str(), std::string(to_string(t.b)).c_str(), t.n_a, t.n_b,
-                      short_number(t.test.u).c_str(), t.p, t.p_holm, t.a12,
-                      std::string(to_string(t.method)).c_str());
-        out << line;
-    }
+    write_pair_tests(out, stats.tests, stats.generation);
     if (stats.events) write_events_text(out, *stats.events, event);
 }
 
@@ -340,24 +359,35 @@ void write_success_csv(std::ostream& out, const CampaignStats& stats) {
     }
 }
 
-void write_runs_csv(std::ostream& out, const CampaignStats& stats) {
+void write_run_rows(std::ostream& out, std::span<const RunRow> rows) {
     out << "treatment,seed,generation,best_reward,success,policies,ball_policies,mean_r_max\n";
-    const auto g = static_cast<std::size_t>(stats.generation);
-    for (const auto& run : stats.runs) {
-        out << to_string(run.treatment) << "," << run.seed << "," << stats.generation << ","
-            << number(run.best[g]) << "," << (run.best[g] >= stats.threshold ? 1 : 0) << "," << run.policies
-            << "," << run.ball_policies << "," << (run.mean_r_max ? number(*run.mean_r_max) : "") << "\n";
+    for (const auto& row : rows) {
+        out << to_string(row.treatment) << "," << row.seed << "," << row.generation << "," << number(row.best_reward)
+            << "," << (row.success ? 1 : 0) << "," << row.policies << "," << row.ball_policies << ","
+            << (row.mean_r_max ? number(*row.mean_r_max) : "") << "\n";
     }
 }
 
-void write_tests_csv(std::ostream& out, const CampaignStats& stats) {
+void write_runs_csv(std::ostream& out, const CampaignStats& stats) {
+    const auto g = static_cast<std::size_t>(stats.generation);
+    std::vector<RunRow> rows;
+    for (const auto& run : stats.runs) {
+        rows.push_back({run.treatment, run.seed, stats.generation, run.best[g], run.best[g] >= stats.threshold,
+                        run.policies, run.ball_policies, run.mean_r_max});
+    }
+    write_run_rows(out, rows);
+}
+
+void write_pair_tests_csv(std::ostream& out, std::span<const PairTest> tests) {
     out << "treatment_a,treatment_b,n_a,n_b,u,p,p_holm,a12,method,p_auto,p_se\n";
-    for (const auto& t : stats.tests) {
+    for (const auto& t : tests) {
         out << to_string(t.a) << "," << to_string(t.b) << "," << t.n_a << "," << t.n_b << ","
             << number(t.test.u) << "," << number(t.p) << "," << number(t.p_holm) << "," << number(t.a12)
             << "," << to_string(t.method) << "," << number(t.test.p) << ","
             << (t.method == PairMethod::monte_carlo ? number(t.p_standard_error) : "") << "\n";
     }
 }
+
+void write_tests_csv(std::ostream& out, const CampaignStats& stats) { write_pair_tests_csv(out, stats.tests); }
 
 }  // namespace stepstone::exp

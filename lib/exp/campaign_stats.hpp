@@ -4,7 +4,9 @@
 #include <filesystem>
 #include <optional>
 #include <ostream>
+#include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "exp/campaign_events.hpp"
@@ -73,6 +75,34 @@ struct PairTest {
     double p_holm = 1;        ///< Holm-adjusted over every pair of the campaign
     double a12 = 0.5;         ///< Vargha-Delaney A12 of a over b
 };
+
+/// Mann-Whitney U of every pair of treatments on their best-of-run rewards (a
+/// before b in the given order), Holm-adjusted over the pairs; the permutation
+/// p below kPermutationBelowRuns runs an arm or with many ties.
+std::vector<PairTest> pair_tests(std::span<const TreatmentResult> treatments);
+
+/// One row of a runs CSV (write_runs_csv, read back by pool_stats).
+struct RunRow {
+    Treatment treatment = Treatment::none;
+    std::uint64_t seed = 0;
+    int generation = 0;
+    double best_reward = 0;
+    bool success = false;
+    std::int64_t policies = 0;
+    std::int64_t ball_policies = 0;
+    std::optional<double> mean_r_max;
+};
+/// `treatment,seed,generation,best_reward,success,policies,ball_policies,mean_r_max`
+/// with a header line; mean_r_max empty when absent, numbers to 17 digits.
+void write_run_rows(std::ostream& out, std::span<const RunRow> rows);
+/// The tests CSV of `tests` (write_tests_csv's format).
+void write_pair_tests_csv(std::ostream& out, std::span<const PairTest> tests);
+/// The per-treatment table (runs, successes, quartiles, max of the best
+/// rewards) and the shaping-signal table, r_max described by `signal`.
+void write_treatment_tables(std::ostream& out, std::span<const TreatmentResult> treatments,
+                            std::string_view signal, int generation);
+/// The Mann-Whitney table of `tests` at `generation` (nothing without tests).
+void write_pair_tests(std::ostream& out, std::span<const PairTest> tests, int generation);
 
 /// The statistics of a campaign's target runs (the paper's Fig. 6 and 7 and
 /// its appendix table).

@@ -194,7 +194,7 @@ void Chart::reference(double y, const std::string& label) {
     canvas_.text(right_ - 4.0, py(y) - 3.0, label, kTickSize, kGrey, 1.0, 1.0);
 }
 
-void Chart::legend(std::span<const std::pair<std::string, Colour>> entries, bool right) {
+void Chart::legend(std::span<const std::pair<std::string, Colour>> entries, bool right, bool bottom) {
     if (entries.empty()) return;
     cairo_t* cr = canvas_.cr();
     double width = 0.0;
@@ -203,7 +203,7 @@ void Chart::legend(std::span<const std::pair<std::string, Colour>> entries, bool
     const double box_w = width + 44.0;
     const double box_h = row * static_cast<double>(entries.size()) + 10.0;
     const double x = right ? right_ - box_w - 10.0 : left_ + 10.0;
-    const double y = top_ + 10.0;
+    const double y = bottom ? bottom_ - box_h - 10.0 : top_ + 10.0;
     cairo_rectangle(cr, x, y, box_w, box_h);
     canvas_.set_colour(kWhite, 0.88);
     cairo_fill_preserve(cr);

@@ -64,8 +64,9 @@ public:
     void point(double x, double y, double radius, Colour colour, double alpha = 0.8);
     /// A horizontal reference line at y with a label at its right end.
     void reference(double y, const std::string& label);
-    /// Legend entries in a box at the top left (or right) of the plotting area.
-    void legend(std::span<const std::pair<std::string, Colour>> entries, bool right = false);
+    /// Legend entries in a box at the top left (or right) of the plotting
+    /// area, or at its bottom with `bottom`.
+    void legend(std::span<const std::pair<std::string, Colour>> entries, bool right = false, bool bottom = false);
     /// Clips drawing to the plotting area until release_clip().
     void clip();
     void release_clip();

@@ -68,6 +68,24 @@ std::vector<MilestoneCounts> load_milestone_counts(db::Connection& connection, s
     return out;
 }
 
+namespace {
+
+// The legend goes in the right-hand corner that fewer curves cross over the
+// last 40% of the generations: the top one when curves have dropped below 3/4
+// by then, the bottom one when they stay above 1/4 (ties: the top).
+bool legend_below(const exp::CampaignEvents& events, exp::Milestone m) {
+    const double from = 0.6 * static_cast<double>(events.generation);
+    int top = 0, bottom = 0;
+    for (const auto& s : events.summaries) {
+        if (s.milestone != m) continue;
+        if (s.curve.at(from) >= 0.75) ++top;
+        if (s.curve.at(static_cast<double>(events.generation)) <= 0.25) ++bottom;
+    }
+    return bottom < top;
+}
+
+}  // namespace
+
 void draw_kaplan_meier(Canvas& canvas, const exp::CampaignEvents& events) {
     canvas.fill(kWhite);
     const double g = std::max(events.generation, 1);
@@ -126,7 +144,7 @@ void draw_kaplan_meier(Canvas& canvas, const exp::CampaignEvents& events) {
             ++row;
         }
         canvas.text(chart.left() - 10.0, chart.bottom() + 58.0, "at risk", kTableSize, kGrey, 1.0, 0.5);
-        chart.legend(legend, true);
+        chart.legend(legend, true, legend_below(events, m));
     }
 }
 

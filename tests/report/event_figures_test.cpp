@@ -71,3 +71,28 @@ TEST_CASE("the Kaplan-Meier panels draw each treatment's estimate where the hand
     CHECK(events.summaries[0].curve.at_risk(60) == 3);
     CHECK(events.summaries[1].curve.at_risk(60) == 0);
 }
+
+TEST_CASE("the Kaplan-Meier legend moves to the bottom corner when the curves stay high",
+          "[report][figures][events]") {
+    // 10 runs of none, one presses at generation 5, the others are censored at 100: S = 0.9 from 5 on, a
+    // line in the top corner where the legend would cover it with its translucent white box
+    std::vector<exp::RunEvents> runs;
+    for (int k = 0; k < 10; ++k) {
+        exp::FirstEvents none;
+        if (k == 0) none[0] = 5;
+        runs.push_back({exp::Treatment::none, static_cast<std::uint64_t>(k), none});
+    }
+    const exp::Treatment order[] = {exp::Treatment::none};
+    const auto events = exp::campaign_events(runs, order, 100);
+    Canvas canvas(kPanelFigureWidth, kPanelFigureHeight, Format::png);
+    draw_kaplan_meier(canvas, events);
+    const auto image = reporttest::decode_png(canvas.finish());
+    const int panel_w = kPanelFigureWidth / 2;
+    const int y0 = 40, y1 = kPanelFigureHeight / 2 - 95;
+    const reporttest::Rgb black{0, 0, 0};
+    // the S = 0.9 line found at 30 % across the press panel, then at 90 % across, under the legend's corner
+    const auto line = first_row(image, panel_w * 30 / 100, y0 + 20, y1, black);
+    REQUIRE(line);
+    const auto right = first_row(image, panel_w * 90 / 100, *line - 3, *line + 4, black);
+    CHECK(right);  // drawn in full, not washed out by the legend box
+}
