@@ -26,22 +26,27 @@ struct PoolFlags {
 void add_pool_command(CLI::App& app) {
     auto flags = std::make_shared<PoolFlags>();
     auto* cmd = app.add_subcommand(
-        "pool", "Pool the runs and events CSVs of several campaigns (stats --runs-csv/--events-csv) and "
-                "recompute their tests: Mann-Whitney on best rewards, Kaplan-Meier and log-rank on milestones");
+        "pool",
+        "Pool the runs and events CSVs of several campaigns (stats --runs-csv/--events-csv) and "
+        "recompute their tests: Mann-Whitney on best rewards, Kaplan-Meier and log-rank on milestones");
     cmd->add_option("--runs", flags->runs, "Runs CSVs (stats --runs-csv), one or more")->required();
-    cmd->add_option("--events", flags->events, "Events CSVs (stats --events-csv) of the same runs")->required();
+    cmd->add_option("--events", flags->events, "Events CSVs (stats --events-csv) of the same runs")
+        ->required();
     cmd->add_option("--threshold", flags->threshold, "Success: best-of-run reward >= this (default 0.5)");
     cmd->add_option("--event", flags->event,
                     "Milestone of the time-to-event table: press, pickup, release or ball (default pickup)");
     cmd->add_option("--runs-csv", flags->runs_csv, "Write the pooled runs (the --runs format)");
-    cmd->add_option("--tests-csv", flags->tests_csv, "Write the Mann-Whitney tests (stats --tests-csv's format)");
+    cmd->add_option("--tests-csv", flags->tests_csv,
+                    "Write the Mann-Whitney tests (stats --tests-csv's format)");
     cmd->add_option("--events-csv", flags->events_csv, "Write the pooled events (the --events format)");
-    cmd->add_option("--logrank-csv", flags->logrank_csv, "Write the log-rank tests (stats --logrank-csv's format)");
+    cmd->add_option("--logrank-csv", flags->logrank_csv,
+                    "Write the log-rank tests (stats --logrank-csv's format)");
     cmd->add_option("--kaplan-meier", flags->kaplan_meier, "Draw the Kaplan-Meier curves (.png or .svg)");
     cmd->add_flag("--force", flags->force, "Replace existing output files");
-    cmd->footer(example({"stepstone pool --runs a/runs.csv b/runs.csv --events a/events.csv b/events.csv",
-                         "stepstone pool --runs r1.csv --runs r2.csv --events e1.csv --events e2.csv --event ball "
-                         "--logrank-csv logrank.csv --kaplan-meier km.png"}));
+    cmd->footer(
+        example({"stepstone pool --runs a/runs.csv b/runs.csv --events a/events.csv b/events.csv",
+                 "stepstone pool --runs r1.csv --runs r2.csv --events e1.csv --events e2.csv --event ball "
+                 "--logrank-csv logrank.csv --kaplan-meier km.png"}));
     cmd->callback([flags] {
         const exp::Milestone event = exp::parse_milestone(flags->event, "--event");
         for (const auto* path : {&flags->runs_csv, &flags->tests_csv, &flags->events_csv, &flags->logrank_csv,
@@ -54,11 +59,13 @@ void add_pool_command(CLI::App& app) {
         const std::vector<std::filesystem::path> events(flags->events.begin(), flags->events.end());
         const auto stats = exp::pool_stats(runs, events, flags->threshold);
         exp::write_pooled_text(std::cout, stats, event);
-        write_output(flags->runs_csv, flags->force, [&](std::ostream& out) { exp::write_run_rows(out, stats.runs); });
+        write_output(flags->runs_csv, flags->force,
+                     [&](std::ostream& out) { exp::write_run_rows(out, stats.runs); });
         write_output(flags->tests_csv, flags->force,
                      [&](std::ostream& out) { exp::write_pair_tests_csv(out, stats.tests); });
-        write_output(flags->events_csv, flags->force,
-                     [&](std::ostream& out) { exp::write_events_csv(out, stats.run_events, stats.generation); });
+        write_output(flags->events_csv, flags->force, [&](std::ostream& out) {
+            exp::write_events_csv(out, stats.run_events, stats.generation);
+        });
         write_output(flags->logrank_csv, flags->force,
                      [&](std::ostream& out) { exp::write_logrank_csv(out, stats.events); });
         if (figure_format) {

@@ -83,13 +83,16 @@ void add_stats_command(CLI::App& app) {
             !flags->events_csv.empty() || !flags->logrank_csv.empty() || event_option->count() > 0;
         if (events_asked) exp::require_events(stats);
         exp::write_text(std::cout, stats, event);
-        write_output(flags->csv, flags->force, [&](std::ostream& out) { exp::write_success_csv(out, stats); });
-        write_output(flags->runs_csv, flags->force, [&](std::ostream& out) { exp::write_runs_csv(out, stats); });
-        write_output(flags->tests_csv, flags->force, [&](std::ostream& out) { exp::write_tests_csv(out, stats); });
+        write_output(flags->csv, flags->force,
+                     [&](std::ostream& out) { exp::write_success_csv(out, stats); });
+        write_output(flags->runs_csv, flags->force,
+                     [&](std::ostream& out) { exp::write_runs_csv(out, stats); });
+        write_output(flags->tests_csv, flags->force,
+                     [&](std::ostream& out) { exp::write_tests_csv(out, stats); });
         write_output(flags->events_csv, flags->force,
-                  [&](std::ostream& out) { exp::write_events_csv(out, stats); });
+                     [&](std::ostream& out) { exp::write_events_csv(out, stats); });
         write_output(flags->logrank_csv, flags->force,
-                  [&](std::ostream& out) { exp::write_logrank_csv(out, stats); });
+                     [&](std::ostream& out) { exp::write_logrank_csv(out, stats); });
     });
 }
 

@@ -1,10 +1,9 @@
 #pragma once
 
+#include <CLI/CLI.hpp>
 #include <initializer_list>
 #include <ostream>
 #include <string>
-
-#include <CLI/CLI.hpp>
 
 #include "core/output_file.hpp"
 

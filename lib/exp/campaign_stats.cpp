@@ -268,19 +268,17 @@ void write_treatment_tables(std::ostream& out, std::span<const TreatmentResult> 
                       static_cast<long long>(t.policies), static_cast<long long>(t.ball_policies));
         out << line;
     }
-
 }
 
 void write_pair_tests(std::ostream& out, std::span<const PairTest> tests, int generation) {
     char line[256];
     if (tests.empty()) return;
-    out << "\nMann-Whitney U, two-sided, at generation " << generation
-        << " (p_holm: Holm-adjusted over the " << tests.size()
-        << " pairs; A12: P(a > b) + P(a = b) / 2;"
+    out << "\nMann-Whitney U, two-sided, at generation " << generation << " (p_holm: Holm-adjusted over the "
+        << tests.size() << " pairs; A12: P(a > b) + P(a = b) / 2;"
         << " method: how p was obtained, permutation below " << kPermutationBelowRuns
         << " runs an arm or with ties, docs/statistics.md)\n";
-    std::snprintf(line, sizeof line, "%-10s %-10s %4s %4s %8s %10s %10s %6s  %s\n", "a", "b", "n_a", "n_b", "U", "p",
-                  "p_holm", "A12", "method");
+    std::snprintf(line, sizeof line, "%-10s %-10s %4s %4s %8s %10s %10s %6s  %s\n", "a", "b", "n_a", "n_b",
+                  "U", "p", "p_holm", "A12", "method");
     out << line;
     for (const auto& t : tests) {
         std::snprintf(line, sizeof line, "%-10s %-10s %4zu %4zu %8s %10.4g %10.4g %6.3f  %s\n",
@@ -302,10 +300,10 @@ void write_text(std::ostream& out, const CampaignStats& stats, Milestone event) 
         out << "\n";
     }
     out << "\n";
-    write_treatment_tables(out, stats.treatments,
-                           concat("mean over runs of the mean r_max of generations ", stats.signal_from, "-",
-                                  stats.generation),
-                           stats.generation);
+    write_treatment_tables(
+        out, stats.treatments,
+        concat("mean over runs of the mean r_max of generations ", stats.signal_from, "-", stats.generation),
+        stats.generation);
     out << "\nsuccessful runs by generation\n";
     std::snprintf(line, sizeof line, "%-10s", "generation");
     out << line;
@@ -362,9 +360,9 @@ void write_success_csv(std::ostream& out, const CampaignStats& stats) {
 void write_run_rows(std::ostream& out, std::span<const RunRow> rows) {
     out << "treatment,seed,generation,best_reward,success,policies,ball_policies,mean_r_max\n";
     for (const auto& row : rows) {
-        out << to_string(row.treatment) << "," << row.seed << "," << row.generation << "," << number(row.best_reward)
-            << "," << (row.success ? 1 : 0) << "," << row.policies << "," << row.ball_policies << ","
-            << (row.mean_r_max ? number(*row.mean_r_max) : "") << "\n";
+        out << to_string(row.treatment) << "," << row.seed << "," << row.generation << ","
+            << number(row.best_reward) << "," << (row.success ? 1 : 0) << "," << row.policies << ","
+            << row.ball_policies << "," << (row.mean_r_max ? number(*row.mean_r_max) : "") << "\n";
     }
 }
 
@@ -372,8 +370,8 @@ void write_runs_csv(std::ostream& out, const CampaignStats& stats) {
     const auto g = static_cast<std::size_t>(stats.generation);
     std::vector<RunRow> rows;
     for (const auto& run : stats.runs) {
-        rows.push_back({run.treatment, run.seed, stats.generation, run.best[g], run.best[g] >= stats.threshold,
-                        run.policies, run.ball_policies, run.mean_r_max});
+        rows.push_back({run.treatment, run.seed, stats.generation, run.best[g],
+                        run.best[g] >= stats.threshold, run.policies, run.ball_policies, run.mean_r_max});
     }
     write_run_rows(out, rows);
 }
@@ -388,6 +386,8 @@ void write_pair_tests_csv(std::ostream& out, std::span<const PairTest> tests) {
     }
 }
 
-void write_tests_csv(std::ostream& out, const CampaignStats& stats) { write_pair_tests_csv(out, stats.tests); }
+void write_tests_csv(std::ostream& out, const CampaignStats& stats) {
+    write_pair_tests_csv(out, stats.tests);
+}
 
 }  // namespace stepstone::exp

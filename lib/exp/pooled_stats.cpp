@@ -18,7 +18,8 @@ namespace {
 
 using RunKey = std::pair<Treatment, std::uint64_t>;
 
-constexpr std::string_view kRunsHeader = "treatment,seed,generation,best_reward,success,policies,ball_policies,mean_r_max";
+constexpr std::string_view kRunsHeader =
+    "treatment,seed,generation,best_reward,success,policies,ball_policies,mean_r_max";
 constexpr std::string_view kEventsHeader = "treatment,seed,event,generation,observed";
 
 // One CSV line split at its commas, with the place it came from for errors.
@@ -32,7 +33,8 @@ std::vector<Line> read_csv(const fs::path& file, std::string_view header) {
     if (!in) throw DataError(concat(file.string(), ": cannot be read"));
     std::string text;
     if (!std::getline(in, text) || text != header) {
-        throw DataError(concat(file.string(), ": not the expected CSV (its first line should be '", header, "')"));
+        throw DataError(
+            concat(file.string(), ": not the expected CSV (its first line should be '", header, "')"));
     }
     const std::size_t columns = std::count(header.begin(), header.end(), ',') + 1;
     std::vector<Line> lines;
@@ -82,8 +84,9 @@ RunRow parse_run(const Line& line) {
     if (!line.fields[7].empty()) row.mean_r_max = parse_number<double>(line, 7, "mean_r_max");
     if (row.generation < 0 || !(row.best_reward >= 0.0 && row.best_reward <= 1.0) || row.policies < 0 ||
         row.ball_policies < 0 || row.ball_policies > row.policies) {
-        throw DataError(concat(line.where, ": out of range (a generation, best_reward within [0, 1] and "
-                                           "0 <= ball_policies <= policies are expected)"));
+        throw DataError(concat(line.where,
+                               ": out of range (a generation, best_reward within [0, 1] and "
+                               "0 <= ball_policies <= policies are expected)"));
     }
     return row;
 }
@@ -123,13 +126,15 @@ PooledStats pool_stats(std::span<const fs::path> runs_files, std::span<const fs:
         for (const auto& line : read_csv(file, kRunsHeader)) {
             const RunRow row = parse_run(line);
             const RunKey key{row.treatment, row.seed};
-            if (std::find(order.begin(), order.end(), row.treatment) == order.end()) order.push_back(row.treatment);
+            if (std::find(order.begin(), order.end(), row.treatment) == order.end())
+                order.push_back(row.treatment);
             const auto [it, fresh] = runs.emplace(key, std::pair{row, file.string()});
             if (fresh) continue;
             if (!same_run(it->second.first, row)) {
-                throw DataError(concat(it->second.second, " and ", line.where, " disagree on run ", run_name(key),
-                                       " (best_reward ", it->second.first.best_reward, " against ",
-                                       row.best_reward, "); the same seed and treatment should give the same run"));
+                throw DataError(concat(it->second.second, " and ", line.where, " disagree on run ",
+                                       run_name(key), " (best_reward ", it->second.first.best_reward,
+                                       " against ", row.best_reward,
+                                       "); the same seed and treatment should give the same run"));
             }
             auto [at, first_repeat] = repeated.emplace(key, stats.repeated.size());
             if (first_repeat) stats.repeated.push_back({key.first, key.second, {it->second.second}});
@@ -157,7 +162,9 @@ PooledStats pool_stats(std::span<const fs::path> runs_files, std::span<const fs:
             ReadEvents& read = here[key];
             read.file = file.string();
             const auto k = static_cast<std::size_t>(m);
-            if (read.seen[k]) throw DataError(concat(line.where, ": a second ", line.fields[2], " row of run ", run_name(key)));
+            if (read.seen[k])
+                throw DataError(
+                    concat(line.where, ": a second ", line.fields[2], " row of run ", run_name(key)));
             read.seen[k] = true;
             if (observed == "1") {
                 read.first[k] = generation;
@@ -175,8 +182,9 @@ PooledStats pool_stats(std::span<const fs::path> runs_files, std::span<const fs:
             }
             const auto [it, fresh] = events.emplace(key, read);
             if (!fresh && it->second.first != read.first) {
-                throw DataError(concat(it->second.file, " and ", file.string(), " disagree on the events of run ",
-                                       run_name(key), "; the same seed and treatment should give the same run"));
+                throw DataError(concat(it->second.file, " and ", file.string(),
+                                       " disagree on the events of run ", run_name(key),
+                                       "; the same seed and treatment should give the same run"));
             }
         }
     }
@@ -186,21 +194,25 @@ PooledStats pool_stats(std::span<const fs::path> runs_files, std::span<const fs:
         const auto& [row, file] = entry;
         if (row.generation != stats.generation) {
             throw DataError(concat("runs compared at different generations (", stats.generation, " in ",
-                                   runs.begin()->second.second, ", ", row.generation, " for ", run_name(key), " in ",
-                                   file, "); pool runs exported at one generation (stats --generation)"));
+                                   runs.begin()->second.second, ", ", row.generation, " for ", run_name(key),
+                                   " in ", file,
+                                   "); pool runs exported at one generation (stats --generation)"));
         }
         const auto found = events.find(key);
-        if (found == events.end()) throw DataError(concat("run ", run_name(key), " of ", file, " has no events in the events CSVs"));
+        if (found == events.end())
+            throw DataError(concat("run ", run_name(key), " of ", file, " has no events in the events CSVs"));
         const ReadEvents& read = found->second;
         const bool late = std::any_of(read.first.begin(), read.first.end(),
                                       [&](const std::optional<int>& g) { return g && *g > row.generation; });
         if (late || (read.censored_at && *read.censored_at != row.generation)) {
-            throw DataError(concat(read.file, ": the events of run ", run_name(key), " do not end at generation ",
-                                   row.generation, " as its row in ", file, " does"));
+            throw DataError(concat(read.file, ": the events of run ", run_name(key),
+                                   " do not end at generation ", row.generation, " as its row in ", file,
+                                   " does"));
         }
     }
     for (const auto& [key, read] : events) {
-        if (!runs.contains(key)) throw DataError(concat(read.file, ": run ", run_name(key), " is in no runs CSV"));
+        if (!runs.contains(key))
+            throw DataError(concat(read.file, ": run ", run_name(key), " is in no runs CSV"));
     }
 
     // campaign order: seed-major, treatments in their order of first appearance
@@ -244,15 +256,18 @@ PooledStats pool_stats(std::span<const fs::path> runs_files, std::span<const fs:
 void write_pooled_text(std::ostream& out, const PooledStats& stats, Milestone event) {
     out << "pooled: " << stats.runs.size() << " runs at generation " << stats.generation
         << "; success = best-of-run reward >= " << stats.threshold << "\n";
-    for (std::size_t k = 0; k < stats.runs_files.size(); ++k) out << "  runs   " << stats.runs_files[k] << "\n";
-    for (std::size_t k = 0; k < stats.events_files.size(); ++k) out << "  events " << stats.events_files[k] << "\n";
+    for (std::size_t k = 0; k < stats.runs_files.size(); ++k)
+        out << "  runs   " << stats.runs_files[k] << "\n";
+    for (std::size_t k = 0; k < stats.events_files.size(); ++k)
+        out << "  events " << stats.events_files[k] << "\n";
     if (!stats.repeated.empty()) {
         out << stats.repeated.size() << " runs found in more than one input, identical in each:";
         for (const auto& r : stats.repeated) out << " " << to_string(r.treatment) << "/" << r.seed;
         out << "\n";
     }
     out << "\n";
-    write_treatment_tables(out, stats.treatments, "mean over runs of each input's mean_r_max", stats.generation);
+    write_treatment_tables(out, stats.treatments, "mean over runs of each input's mean_r_max",
+                           stats.generation);
     write_pair_tests(out, stats.tests, stats.generation);
     write_events_text(out, stats.events, event);
 }

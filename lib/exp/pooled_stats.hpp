@@ -27,12 +27,12 @@ struct PooledStats {
     std::vector<std::string> runs_files, events_files;
     int generation = 0;
     double threshold = 0.5;
-    std::vector<RunRow> runs;                ///< seed order, then treatment order (a campaign's)
-    std::vector<RunEvents> run_events;       ///< the same order
-    std::vector<TreatmentResult> treatments; ///< in the order of first appearance
-    std::vector<PairTest> tests;             ///< Mann-Whitney on the best rewards, Holm over the pairs
-    CampaignEvents events;                   ///< Kaplan-Meier and log-rank of every milestone
-    std::vector<RepeatedRun> repeated;       ///< runs in more than one input
+    std::vector<RunRow> runs;                 ///< seed order, then treatment order (a campaign's)
+    std::vector<RunEvents> run_events;        ///< the same order
+    std::vector<TreatmentResult> treatments;  ///< in the order of first appearance
+    std::vector<PairTest> tests;              ///< Mann-Whitney on the best rewards, Holm over the pairs
+    CampaignEvents events;                    ///< Kaplan-Meier and log-rank of every milestone
+    std::vector<RepeatedRun> repeated;        ///< runs in more than one input
 };
 
 /// Reads runs CSVs (`stats --runs-csv`) and events CSVs (`stats --events-csv`)

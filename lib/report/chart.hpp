@@ -66,7 +66,8 @@ public:
     void reference(double y, const std::string& label);
     /// Legend entries in a box at the top left (or right) of the plotting
     /// area, or at its bottom with `bottom`.
-    void legend(std::span<const std::pair<std::string, Colour>> entries, bool right = false, bool bottom = false);
+    void legend(std::span<const std::pair<std::string, Colour>> entries, bool right = false,
+                bool bottom = false);
     /// Clips drawing to the plotting area until release_clip().
     void clip();
     void release_clip();

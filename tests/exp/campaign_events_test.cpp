@@ -194,9 +194,10 @@ TEST_CASE("pool: a campaign's CSVs split in two overlapping halves pool back to 
           "[exp][stats][events][cli][pool]") {
     Campaign c;
     const std::filesystem::path d = c.dir.path();
-    const auto whole = test::run_cli({"stats", c.camp.string(), "--runs-csv", (d / "runs.csv").string(),
-                                      "--events-csv", (d / "events.csv").string(), "--tests-csv",
-                                      (d / "tests.csv").string(), "--logrank-csv", (d / "logrank.csv").string()});
+    const auto whole =
+        test::run_cli({"stats", c.camp.string(), "--runs-csv", (d / "runs.csv").string(), "--events-csv",
+                       (d / "events.csv").string(), "--tests-csv", (d / "tests.csv").string(),
+                       "--logrank-csv", (d / "logrank.csv").string()});
     REQUIRE(whole.exit_code == 0);
     const std::string runs = test::read_file(d / "runs.csv"), events = test::read_file(d / "events.csv");
     // machine A finished seeds 1 and 2, machine B seeds 2 and 3: seed 2 is in both, identical
@@ -204,9 +205,13 @@ TEST_CASE("pool: a campaign's CSVs split in two overlapping halves pool back to 
     test::write_file(d / "b_runs.csv", rows_of_seeds(runs, {2, 3}));
     test::write_file(d / "a_events.csv", rows_of_seeds(events, {1, 2}));
     test::write_file(d / "b_events.csv", rows_of_seeds(events, {2, 3}));
-    const std::vector<std::string> inputs = {"pool",     "--runs",   (d / "a_runs.csv").string(),
-                                             (d / "b_runs.csv").string(), "--events",
-                                             (d / "a_events.csv").string(), (d / "b_events.csv").string()};
+    const std::vector<std::string> inputs = {"pool",
+                                             "--runs",
+                                             (d / "a_runs.csv").string(),
+                                             (d / "b_runs.csv").string(),
+                                             "--events",
+                                             (d / "a_events.csv").string(),
+                                             (d / "b_events.csv").string()};
     auto args = inputs;
     for (const char* out : {"runs", "events", "tests", "logrank"}) {
         args.push_back(std::string("--") + out + "-csv");
@@ -223,8 +228,9 @@ TEST_CASE("pool: a campaign's CSVs split in two overlapping halves pool back to 
         CHECK(test::read_file(d / (std::string("p_") + out + ".csv")) ==
               test::read_file(d / (std::string(out) + ".csv")));
     }
-    CHECK_THAT(pooled.out, Contains("pooled: 6 runs at generation 4") &&
-                               Contains("2 runs found in more than one input, identical in each: none/2 sum/2"));
+    CHECK_THAT(pooled.out,
+               Contains("pooled: 6 runs at generation 4") &&
+                   Contains("2 runs found in more than one input, identical in each: none/2 sum/2"));
     CHECK_THAT(pooled.out, Contains("none           3        1    not reached\n") &&
                                Contains("sum            3        3              1\n"));
     CHECK(test::read_file(d / "km.png").rfind("\x89PNG", 0) == 0);
@@ -262,25 +268,27 @@ TEST_CASE("pool refuses inputs that disagree, lack their events or mix generatio
     std::string other_best = sum2;
     other_best.replace(best_at, sum2.find(',', best_at) - best_at, "0.99");
     expect_error(pool(other_best, rows_of_seeds(events, {2})), "disagree on run sum seed 2");
-    expect_error(pool(rows_of_seeds(runs, {2}), replaced(rows_of_seeds(events, {2}), "sum,2,pickup,1,1",
-                                                         "sum,2,pickup,2,1")),
+    expect_error(pool(rows_of_seeds(runs, {2}),
+                      replaced(rows_of_seeds(events, {2}), "sum,2,pickup,1,1", "sum,2,pickup,2,1")),
                  "disagree on the events of run sum seed 2");
     // a run without events, events without a run
-    test::write_file(d / "lone_runs.csv", "treatment,seed,generation,best_reward,success,policies,ball_policies,"
-                                          "mean_r_max\nsum,9,4,0,0,40,0,0.5\n");
+    test::write_file(d / "lone_runs.csv",
+                     "treatment,seed,generation,best_reward,success,policies,ball_policies,"
+                     "mean_r_max\nsum,9,4,0,0,40,0,0.5\n");
     const auto no_events = test::run_cli(
         {"pool", "--runs", (d / "lone_runs.csv").string(), "--events", (d / "events.csv").string()});
     expect_error(no_events, "run sum seed 9");
     // another generation: every row of seed 3 exported at generation 3
-    std::string late_runs = replaced(replaced(rows_of_seeds(runs, {3}), "none,3,4,", "none,3,3,"), "sum,3,4,",
-                                     "sum,3,3,");
+    std::string late_runs =
+        replaced(replaced(rows_of_seeds(runs, {3}), "none,3,4,", "none,3,3,"), "sum,3,4,", "sum,3,3,");
     test::write_file(d / "b_runs.csv", late_runs);
-    const auto mixed = test::run_cli({"pool", "--runs", (d / "runs.csv").string(), (d / "b_runs.csv").string(),
-                                      "--events", (d / "events.csv").string()});
+    const auto mixed = test::run_cli({"pool", "--runs", (d / "runs.csv").string(),
+                                      (d / "b_runs.csv").string(), "--events", (d / "events.csv").string()});
     expect_error(mixed, "disagree on run");  // seed 3 is in both: the generation differs
     test::write_file(d / "a_runs.csv", rows_of_seeds(runs, {1, 2}));
-    const auto generations = test::run_cli({"pool", "--runs", (d / "a_runs.csv").string(),
-                                            (d / "b_runs.csv").string(), "--events", (d / "events.csv").string()});
+    const auto generations =
+        test::run_cli({"pool", "--runs", (d / "a_runs.csv").string(), (d / "b_runs.csv").string(), "--events",
+                       (d / "events.csv").string()});
     expect_error(generations, "different generations");
     // not a runs CSV, a field that is not a number
     expect_error(pool(events, events), "not the expected CSV");
