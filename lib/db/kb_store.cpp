@@ -161,10 +161,16 @@ StoredKb load_kb(Connection& connection, const std::string& name) {
         record.first = {static_cast<std::uint32_t>(select.column_int(3)), select.column_int(4)};
         record.last = {static_cast<std::uint32_t>(select.column_int(5)), select.column_int(6)};
         const auto blob = select.column_blob(7);
-        if (count < 1 || !std::isfinite(record.cum_reward) || blob.size() != dim * sizeof(float)) {
-            throw DatabaseError(concat(connection.name(), ": knowledge base \"", chosen->name, "\" segment ", id,
-                                       " is malformed (", blob.size(), " value bytes, expected ", dim * sizeof(float),
-                                       "; count ", count, ")"));
+        const auto bad = [&](const std::string& problem) {
+            return DatabaseError(
+                concat(connection.name(), ": knowledge base \"", chosen->name, "\" segment ", id, " ", problem));
+        };
+        if (count < 1) throw bad(concat("has count ", count, " (at least 1 expected)"));
+        if (!std::isfinite(record.cum_reward)) {
+            throw bad(concat("has a non-finite cum_reward (", shortest(record.cum_reward), ")"));
+        }
+        if (blob.size() != dim * sizeof(float)) {
+            throw bad(concat("holds ", blob.size(), " value bytes, expected ", dim * sizeof(float)));
         }
         record.count = static_cast<std::uint64_t>(count);
         const std::size_t offset = values.size();

@@ -81,7 +81,7 @@ KnowledgeBase KnowledgeBase::from_segments(KbParams params, std::vector<Source> 
                                k % dim));
     }
     for (std::size_t i = 0; i < sources.size(); ++i) {
-        if (sources[i].run.empty()) throw DataError(concat("knowledge base: source ", i, " has an empty run name"));
+        check_run_name(sources[i].run, concat("knowledge base: source ", i, "'s run name"));
         for (std::size_t j = 0; j < i; ++j) {
             if (sources[j].run == sources[i].run) {
                 throw DataError(concat("knowledge base: source '", sources[i].run, "' is listed twice"));
@@ -93,6 +93,11 @@ KnowledgeBase KnowledgeBase::from_segments(KbParams params, std::vector<Source> 
         if (r.count == 0) throw DataError(concat("knowledge base: segment ", i, " has count 0"));
         if (!std::isfinite(r.cum_reward)) {
             throw DataError(concat("knowledge base: segment ", i, " has a non-finite cum_reward"));
+        }
+        if (!(std::abs(r.cum_reward) <= static_cast<double>(r.count) * kMaxRewardMagnitude)) {
+            throw DataError(concat("knowledge base: segment ", i, " has cum_reward ", shortest(r.cum_reward),
+                                   " over ", r.count, " policies, beyond their rewards' bound (+-",
+                                   shortest(kMaxRewardMagnitude), " each)"));
         }
         if (r.first.source >= sources.size() || r.last.source >= sources.size()) {
             throw DataError(concat("knowledge base: segment ", i, " names source ",
@@ -121,8 +126,42 @@ double KnowledgeBase::max_average() const {
     return best;
 }
 
+void check_run_name(std::string_view name, std::string_view what) {
+    if (name.empty()) throw DataError(concat(what, " is empty"));
+    if (name.size() > kMaxRunName) {
+        throw DataError(concat(what, " has ", name.size(), " bytes, more than ", kMaxRunName));
+    }
+    // UTF-8: a lead byte, then as many continuation bytes (10xxxxxx) as it announces;
+    // no overlong forms, surrogates or code points beyond U+10FFFF
+    for (std::size_t i = 0; i < name.size();) {
+        const auto b = static_cast<unsigned char>(name[i]);
+        if (b < 0x20 || b == 0x7f) throw DataError(concat(what, " holds a control character (byte ", i, ")"));
+        std::size_t extra = 0;
+        std::uint32_t code = b;
+        if (b >= 0xf0 && b <= 0xf4) {
+            extra = 3, code = b & 0x07u;
+        } else if (b >= 0xe0 && b <= 0xef) {
+            extra = 2, code = b & 0x0fu;
+        } else if (b >= 0xc2 && b <= 0xdf) {
+            extra = 1, code = b & 0x1fu;
+        } else if (b >= 0x80) {
+            throw DataError(concat(what, " is not valid UTF-8 (byte ", i, ")"));
+        }
+        for (std::size_t k = 1; k <= extra; ++k) {
+            const auto c = i + k < name.size() ? static_cast<unsigned char>(name[i + k]) : 0u;
+            if ((c & 0xc0u) != 0x80u) throw DataError(concat(what, " is not valid UTF-8 (byte ", i, ")"));
+            code = (code << 6) | (c & 0x3fu);
+        }
+        const bool overlong = (extra == 2 && code < 0x800) || (extra == 3 && code < 0x10000);
+        if (overlong || (code >= 0xd800 && code <= 0xdfff) || code > 0x10ffff) {
+            throw DataError(concat(what, " is not valid UTF-8 (byte ", i, ")"));
+        }
+        i += extra + 1;
+    }
+}
+
 std::uint32_t KnowledgeBase::add_source(const std::string& run) {
-    if (run.empty()) throw DataError("knowledge base: a source needs a run name");
+    check_run_name(run, "knowledge base: a source's run name");
     for (std::size_t i = 0; i < sources_.size(); ++i)
         if (sources_[i].run == run) return static_cast<std::uint32_t>(i);
     sources_.push_back(Source{run, 0, 0, 0});
@@ -170,6 +209,10 @@ ObserveResult KnowledgeBase::observe(Segments segments, double reward, Origin or
     // validate everything before touching the KB
     check_segments(segments);
     if (!std::isfinite(reward)) throw DataError(concat("reward must be finite, got ", shortest(reward)));
+    if (std::abs(reward) > kMaxRewardMagnitude) {
+        throw DataError(concat("reward ", shortest(reward), " is beyond +-", shortest(kMaxRewardMagnitude),
+                               ", the largest a KB sums without overflow"));
+    }
     if (origin.source >= sources_.size()) {
         throw DataError(concat("observation names source ", origin.source, ", the knowledge base has ",
                                sources_.size()));

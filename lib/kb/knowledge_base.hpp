@@ -6,6 +6,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "kb/detail/huge_pages.hpp"
@@ -41,6 +42,20 @@ struct KbParams {
     /// and > 0, segment_width >= 1 and channels >= 1.
     void validate() const;
 };
+
+/// The largest reward magnitude observe() accepts. A segment's cum_reward is a
+/// sum of at most `count` rewards and a count stays below 2^63 (about
+/// 9.2e18, the database's integer range), so |cum_reward| < 9.2e18 x 1e289 <
+/// DBL_MAX: no sum can overflow, in observe() or merge(). A KB whose records
+/// break |cum_reward| <= count x kMaxRewardMagnitude is refused on load.
+inline constexpr double kMaxRewardMagnitude = 1e289;
+
+/// The longest run name a KB source takes, in bytes.
+inline constexpr std::size_t kMaxRunName = 256;
+
+/// Throws DataError naming `what` unless `name` is a usable run name: 1 to
+/// kMaxRunName bytes of valid UTF-8 without control characters (NUL included).
+void check_run_name(std::string_view name, std::string_view what);
 
 /// Where an observation comes from: a source (a run, registered with
 /// KnowledgeBase::add_source) and a generation of it.
@@ -104,8 +119,9 @@ public:
     /// Rebuilds the index from a loaded KB: `values` holds records.size()
     /// segments of params.dim() floats, each record a segment's statistics.
     /// Throws ConfigError for invalid params; DataError if sizes disagree, a
-    /// value or reward is not finite, a count is 0, or a record names a source
-    /// outside `sources`.
+    /// value or reward is not finite, a count is 0, a cum_reward exceeds
+    /// count x kMaxRewardMagnitude, a source's run name fails check_run_name,
+    /// or a record names a source outside `sources`.
     static KnowledgeBase from_segments(KbParams params, std::vector<Source> sources,
                                        std::span<const float> values, std::span<const SegmentRecord> records);
 

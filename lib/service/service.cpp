@@ -273,10 +273,13 @@ json KbService::observe(const std::string& name, const json& body) {
     }
     std::string run = "service";
     if (body.contains("run")) {
-        if (!body["run"].is_string() || body["run"].get<std::string>().empty()) {
-            throw HttpError(400, "\"run\" must be a non-empty string");
-        }
+        if (!body["run"].is_string()) throw HttpError(400, "\"run\" must be a string");
         run = body["run"].get<std::string>();
+        try {
+            kb::check_run_name(run, "\"run\"");
+        } catch (const DataError& e) {
+            throw HttpError(400, e.what());
+        }
     }
     std::int64_t generation = 0;
     if (body.contains("generation")) {
@@ -295,8 +298,10 @@ json KbService::observe(const std::string& name, const json& body) {
         if (!p.is_object() || !p.contains("behaviour") || !p.contains("reward")) {
             throw HttpError(400, what + " must be an object with \"behaviour\" and \"reward\"");
         }
-        if (!p["reward"].is_number() || !std::isfinite(p["reward"].get<double>())) {
-            throw HttpError(400, what + ".reward must be a finite number");
+        if (!p["reward"].is_number() || !std::isfinite(p["reward"].get<double>()) ||
+            std::abs(p["reward"].get<double>()) > kb::kMaxRewardMagnitude) {
+            throw HttpError(400, concat(what, ".reward must be a finite number within +-",
+                                        shortest(kb::kMaxRewardMagnitude)));
         }
         behaviours.push_back(read_behaviour(p["behaviour"], params, what + ".behaviour", limits_));
         rewards.push_back(p["reward"].get<double>());

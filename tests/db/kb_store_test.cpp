@@ -88,7 +88,13 @@ TEST_CASE("a malformed stored segment is refused with the KB named", "[db][kb][e
     auto connection = db::open_database(dir / "bad.db", db::OpenMode::create);
     db::insert_kb(connection, "run", random_kb(1, 4));
     connection.exec("UPDATE kb_segment SET segment_values = x'0000' WHERE id = 1");
-    CHECK_THROWS_WITH(db::load_kb(connection), Contains("bad.db: knowledge base \"run\" segment 1 is malformed"));
+    // each problem named as it is: the byte count, then an infinite sum
+    CHECK_THROWS_WITH(db::load_kb(connection),
+                      Contains("bad.db: knowledge base \"run\" segment 1 holds 2 value bytes, expected"));
+    // (a count below 1 the schema's CHECK constraint refuses to store)
+    connection.exec("UPDATE kb_segment SET segment_values = (SELECT segment_values FROM kb_segment WHERE id = 0), "
+                    "cum_reward = 1e999 WHERE id = 1");
+    CHECK_THROWS_WITH(db::load_kb(connection), Contains("segment 1 has a non-finite cum_reward (inf)"));
     CHECK_THROWS_WITH(db::load_kb(connection, "other"), Contains("no knowledge base named \"other\""));
     auto empty = db::open_database(dir / "empty.db", db::OpenMode::create);
     CHECK_THROWS_WITH(db::load_kb(empty), Contains("empty.db: holds no knowledge base"));

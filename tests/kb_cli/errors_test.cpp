@@ -86,7 +86,7 @@ TEST_CASE("a KB file with a NaN value or an infinite reward is refused with one 
                 "nan.db");
     check_error(
         test::run_cli({"kb", "merge", (dir / "inf.db").string(), (dir / "nan.db").string(), "--out", out}), 1,
-        "inf.db: knowledge base \"b\" segment 0 is malformed");
+        "inf.db: knowledge base \"b\" segment 0 has a non-finite cum_reward (inf)");
     CHECK_FALSE(std::filesystem::exists(out));
 }
 

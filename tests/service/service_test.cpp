@@ -268,6 +268,24 @@ TEST_CASE("observations need the token, are durable when answered and equal obse
     const auto answer = post(client, "/v1/kbs/run/observe", body);
     CHECK(answer["durable"] == true);
     CHECK(answer["observed"] == 3);
+    // refused before anything is written (the comparison below would see it): rewards whose sum on one
+    // segment would overflow to Inf, a run name with a NUL, a 1 MB run name
+    const auto status_of = [&](const json& refused_body, const std::string& message) {
+        const auto res = client.Post("/v1/kbs/run/observe", refused_body.dump(), "application/json");
+        REQUIRE(res);
+        CHECK(res->status == 400);
+        CHECK_THAT(res->body, Catch::Matchers::Contains(message));
+    };
+    json huge = body;
+    huge["policies"][0]["reward"] = 1e308;
+    huge["policies"][1]["reward"] = 1e308;
+    status_of(huge, "policies[0].reward must be a finite number within +-1e+289");
+    json nul = body;
+    nul["run"] = std::string("cli\0ent", 7);
+    status_of(nul, "control character");
+    json long_name = body;
+    long_name["run"] = std::string(1 << 20, 'r');
+    status_of(long_name, "1048576 bytes, more than 256");
     CHECK(server.stop() == 0);
     // the file is back in rollback-journal mode: neither the server nor a
     // later reader leaves -wal or -shm beside it
