@@ -60,6 +60,8 @@ std::vector<ChildExit> reap_children() {
     return ended;
 }
 
+bool stopped_on_request(int status) { return WIFEXITED(status) && WEXITSTATUS(status) == kExitStopped; }
+
 bool exited_cleanly(int status) { return WIFEXITED(status) && WEXITSTATUS(status) == 0; }
 
 std::string describe_exit(int status, const std::string& fallback) {

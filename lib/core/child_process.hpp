@@ -31,6 +31,13 @@ std::vector<ChildExit> reap_children();
 /// True when `status` (from waitpid) is a normal exit with code 0.
 bool exited_cleanly(int status);
 
+/// The exit code of a stepstone command stopped by SIGINT or SIGTERM at a
+/// safe point (its work committed, a resume continues it).
+inline constexpr int kExitStopped = 130;
+
+/// True when `status` (from waitpid) is such a stop: exit code kExitStopped.
+bool stopped_on_request(int status);
+
 /// Why a child ended, for a failure message: "killed by signal N" when a
 /// signal ended it, otherwise `fallback`.
 std::string describe_exit(int status, const std::string& fallback);

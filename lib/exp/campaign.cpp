@@ -1,5 +1,7 @@
 #include "exp/campaign.hpp"
 
+#include <optional>
+
 #include "core/error.hpp"
 #include "core/text.hpp"
 #include "core/writer_lock.hpp"
@@ -87,6 +89,10 @@ CampaignSummary run_campaign(const CampaignOptions& given) {
     CampaignSummary summary;
     summary.runs = runs.size();
     const double started = now_seconds();
+    // Ctrl-C and SIGTERM: the runs end their generation, then the campaign stops (an MPI job's
+    // executor watches for mpirun's signals itself)
+    std::optional<InterruptGuard> interrupts;
+    if (!options.mpi) interrupts.emplace();
     const auto executor =
         options.mpi ? make_mpi_executor(*options.mpi) : make_process_executor(options.program, options.jobs);
     Runner runner(options, connection, runs, progress, *executor);
@@ -96,13 +102,21 @@ CampaignSummary run_campaign(const CampaignOptions& given) {
     for (std::size_t k = 0; k < runs.size(); ++k)
         (runs[k].run.step == CampaignStep::source ? sources : targets).push_back(k);
     summary.failures = runner.execute(sources, summary);
-    if (summary.failures.empty()) {
+    if (summary.failures.empty() && !InterruptGuard::received()) {
         if (config.needs_kb()) make_campaign_kbs(options.dir, config, connection, runs);
-        summary.failures = runner.execute(targets, summary);
+        if (!InterruptGuard::received()) summary.failures = runner.execute(targets, summary);
     }
     for (const auto& state : runs) summary.finished += state.status == RunStatus::finished ? 1 : 0;
     summary.wall_time = now_seconds() - started;
     progress.finish(concat("runs ", summary.finished, "/", summary.runs));
+    if (InterruptGuard::received() && summary.finished < summary.runs) {
+        db::finish_writing(connection);  // no -wal / -shm left beside campaign.db
+        connection.close();
+        throw Interrupted(concat("campaign stopped with ", summary.finished, " of ", summary.runs,
+                                 " runs finished; every run file keeps its committed generations; continue with: "
+                                 "stepstone campaign ",
+                                 options.config_path.string(), " --dir ", options.dir.string(), " --resume"));
+    }
     return summary;
 }
 

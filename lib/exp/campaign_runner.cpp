@@ -1,6 +1,7 @@
 #include "exp/campaign_runner.hpp"
 
 #include <algorithm>
+#include <csignal>
 #include <chrono>
 #include <cstdio>
 #include <deque>
@@ -10,6 +11,7 @@
 #include "core/child_process.hpp"
 #include "core/error.hpp"
 #include "core/text.hpp"
+#include "core/writer_lock.hpp"
 #include "db/database.hpp"
 #include "db/digest.hpp"
 #include "exp/evaluation.hpp"
@@ -45,12 +47,16 @@ public:
         for (const ChildExit& child : reap_children()) {
             const auto it = active_.find(child.pid);
             if (it == active_.end()) continue;
-            RunEnd end{it->second.index, exited_cleanly(child.status), ""};
+            RunEnd end{it->second.index, exited_cleanly(child.status), "", stopped_on_request(child.status)};
             if (!end.ok) end.error = describe_exit(child.status, last_line_of(it->second.log));
             active_.erase(it);
             ended.push_back(end);
         }
         return ended;
+    }
+
+    void interrupt() override {
+        for (const auto& [pid, launch] : active_) ::kill(pid, SIGTERM);
     }
 
 private:
@@ -120,7 +126,14 @@ std::vector<std::string> Runner::execute(const std::vector<std::size_t>& indices
     const unsigned threads = options_.threads > 0 ? options_.threads : executor_.default_threads(at_once);
     std::vector<std::string> failures;
     std::vector<Active> active;
+    bool stopping = false;
     while (!queue.empty() || !active.empty()) {
+        if (InterruptGuard::received() && !stopping) {
+            // Ctrl-C or SIGTERM: no new run; the running ones end their generation
+            stopping = true;
+            queue.clear();
+            executor_.interrupt();
+        }
         while (!queue.empty() && active.size() < executor_.slots()) {
             const std::size_t k = queue.front();
             queue.pop_front();
@@ -183,6 +196,12 @@ RunLaunch Runner::launch_of(std::size_t k, unsigned threads) const {
 std::optional<std::string> Runner::finish(const Active& done, const RunEnd& end) {
     auto& state = runs_[done.index];
     const double wall = now_seconds() - done.started;
+    if (end.stopped && InterruptGuard::received()) {
+        // its file keeps every committed generation: a resume continues it
+        state.status = RunStatus::pending;
+        update_run_row(connection_, state, std::nullopt, wall, std::nullopt);
+        return std::nullopt;
+    }
     if (end.ok) {
         try {
             const auto on_disk = read_run_file(options_.dir / state.run.file);

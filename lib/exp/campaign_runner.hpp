@@ -41,6 +41,7 @@ struct RunEnd {
     std::size_t index = 0;
     bool ok = false;    ///< the evolve ended with success (the run file is then checked)
     std::string error;  ///< otherwise: why, in one line
+    bool stopped = false;  ///< it stopped on a signal after committing its generation (exit 130)
 };
 
 /// Carries out runs, several at a time.
@@ -61,6 +62,9 @@ public:
     /// being written on another host (an MPI rank's) is not read until its
     /// run ended.
     virtual bool runs_here() const { return true; }
+    /// Asks every started run to stop after its current generation (SIGTERM
+    /// to a child process). The MPI executor notices a stop by itself.
+    virtual void interrupt() {}
 };
 
 /// Runs each run as a `stepstone evolve` child process of `program`, `jobs`
@@ -76,6 +80,10 @@ public:
 
     /// Runs the runs `indices` to the end (finished ones on disk are only
     /// recorded, in `summary.skipped`); returns the failures, "file: error".
+    /// Once SIGINT or SIGTERM arrived (under an InterruptGuard) no run is
+    /// started, the running ones are asked to stop after their generation and
+    /// waited for, and the stopped ones are recorded pending; the caller then
+    /// sees InterruptGuard::received().
     std::vector<std::string> execute(const std::vector<std::size_t>& indices, CampaignSummary& summary);
 
 private:

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <chrono>
+#include <csignal>
 #include <map>
 #include <thread>
 
@@ -443,4 +444,41 @@ TEST_CASE("every example campaign parses; the demo's KB fixture loads with rewar
     CHECK_THROWS_WITH(exp::gunzip_file(examples / "campaign_quick.json", dir / "x.db"),
                       Catch::Contains("campaign_quick.json: not whole gzip data"));
     CHECK_FALSE(std::filesystem::exists(dir / "x.db"));
+}
+
+TEST_CASE("SIGTERM stops a campaign cleanly: runs end their generation, nothing is left running, resume equals whole",
+          "[exp][campaign][cli][resume][signals]") {
+    test::TempDir dir;
+    test::write_file(dir / "c.json", campaign_json(60, 1000));
+    REQUIRE(campaign(dir, "whole", {"--jobs", "2"}).exit_code == 0);
+
+    const auto stopped = dir / "stopped";
+    double seconds = -1;
+    const auto result = test::run_cli_signalled_when(
+        {"campaign", (dir / "c.json").string(), "--dir", stopped.string(), "--jobs", "2", "--quiet"},
+        [&] { return finished_runs(stopped) >= 2; }, [] {}, SIGTERM, &seconds);
+    INFO(result.err);
+    CHECK(result.exit_code == 130);
+    CHECK(seconds < 10);  // each run ends the generation it is in (~0.05 s here), not the run
+    const auto done_before = finished_runs(stopped);
+    CHECK(done_before < 11);
+    REQUIRE_FALSE(result.err_lines().empty());
+    CHECK_THAT(result.err_lines().back(),
+               Contains("campaign stopped with " + std::to_string(done_before) + " of 11 runs finished") &&
+                   Contains("continue with: stepstone campaign " + (dir / "c.json").string() + " --dir " +
+                            stopped.string() + " --resume"));
+    {
+        auto connection = db::open_database(stopped / "campaign.db", db::OpenMode::read_only);
+        CHECK(connection.query_int("SELECT count(*) FROM campaign_run WHERE status IN ('running', 'failed')") == 0);
+    }
+    // every file closed as evolve closes it on a stop: no WAL beside any of them
+    for (const auto& entry : std::filesystem::recursive_directory_iterator(stopped)) {
+        const auto name = entry.path().filename().string();
+        INFO(entry.path());
+        CHECK_FALSE((name.ends_with("-wal") || name.ends_with("-shm")));
+    }
+    const auto resumed = campaign(dir, "stopped", {"--resume", "--jobs", "2"});
+    INFO(resumed.err);
+    REQUIRE(resumed.exit_code == 0);
+    CHECK(digests(stopped) == digests(dir / "whole"));
 }
