@@ -2,6 +2,7 @@
 
 #include <httplib.h>
 #include <signal.h>
+#include <sys/socket.h>
 
 #include <algorithm>
 #include <atomic>
@@ -178,6 +179,12 @@ HttpServer::HttpServer(const ServeOptions& options) : impl_(std::make_unique<Imp
 
     // answers leave at once on a reused connection (no Nagle wait for the client's delayed ACK)
     server.set_tcp_nodelay(true);
+    // SO_REUSEADDR (a restart binds at once over connections in TIME_WAIT) but not the library's
+    // default SO_REUSEPORT, with which a second server bound the same port and shared its requests
+    server.set_socket_options([](socket_t sock) {
+        int yes = 1;
+        ::setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
+    });
 
     int& port = impl_->port;
     port = options.port;

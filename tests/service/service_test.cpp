@@ -333,3 +333,20 @@ TEST_CASE("unsafe or bad serve options are refused before listening") {
     CHECK(missing.exit_code == 2);
     CHECK(missing.err_lines().at(0).find("none.db: no such file or directory") != std::string::npos);
 }
+
+TEST_CASE("a second server on a port in use is refused in one line naming the port") {
+    test::TempDir dir;
+    reporttest::make_run(dir / "run.db");
+    ServerProcess first({(dir / "run.db").string()}, dir.path());
+    const std::string port = std::to_string(first.port());
+    const auto second = test::run_cli_within({"serve", (dir / "run.db").string(), "--port", port},
+                                             std::chrono::seconds(20));
+    CHECK(second.exit_code == 1);  // -1 would mean it was listening (shared with SO_REUSEPORT) until killed
+    REQUIRE(second.err_lines().size() == 1);
+    CHECK_THAT(second.err_lines()[0], Catch::Matchers::Contains("cannot listen on 127.0.0.1:" + port));
+    httplib::Client client("127.0.0.1", first.port());
+    const auto health = client.Get("/healthz");
+    REQUIRE(health);
+    CHECK(health->status == 200);
+    CHECK(first.stop() == 0);
+}
