@@ -103,6 +103,73 @@ std::string unknown_command(const CLI::App& app, int argc, char** argv) {
     return "";
 }
 
+// "unknown option '--generatoins' for stepstone evolve (did you mean
+// '--generations'?)" for the first argument starting with '-' that the chosen
+// command does not know; "" when every one is known
+// the subcommand the leading words of argv name, and its path ("stepstone kb stats")
+std::pair<const CLI::App*, std::string> command_of(const CLI::App& app, int argc, char** argv) {
+    const CLI::App* level = &app;
+    std::string path = "stepstone";
+    for (int k = 1; k < argc; ++k) {
+        const std::string word = argv[k];
+        if (word.empty() || word[0] == '-') break;
+        const CLI::App* next = nullptr;
+        for (const auto* sub : level->get_subcommands([](const CLI::App*) { return true; })) {
+            if (sub->get_name() == word) next = sub;
+        }
+        if (!next) break;
+        level = next;
+        path += " " + word;
+    }
+    return {level, path};
+}
+
+// CLI11 lists extra arguments last first: "unexpected arguments for stepstone
+// evolve: 10 extra", in the order given
+std::string unexpected_arguments(const std::string& message, const std::string& path) {
+    const auto colon = message.find(": ");
+    if (message.rfind("The following argument", 0) != 0 || colon == std::string::npos) return message;
+    std::vector<std::string> words;
+    std::string word;
+    for (const char c : message.substr(colon + 2) + " ") {
+        if (c != ' ') {
+            word += c;
+        } else if (!word.empty()) {
+            words.push_back(word);
+            word.clear();
+        }
+    }
+    std::string listed;
+    for (auto it = words.rbegin(); it != words.rend(); ++it) listed += (listed.empty() ? "" : " ") + *it;
+    return stepstone::concat(words.size() == 1 ? "unexpected argument for " : "unexpected arguments for ", path, ": ",
+                        listed, " (see ", path, " --help)");
+}
+
+std::string unknown_option(const CLI::App& app, int argc, char** argv) {
+    const auto [level, path] = command_of(app, argc, argv);
+    std::vector<std::string> known;
+    for (const auto* option : level->get_options()) {
+        for (const auto& name : option->get_lnames()) known.push_back("--" + name);
+        for (const auto& name : option->get_snames()) known.push_back("-" + name);
+    }
+    for (int k = 1; k < argc; ++k) {
+        std::string word = argv[k];
+        if (word == "--") break;
+        if (word.size() < 2 || word[0] != '-' || (word[1] >= '0' && word[1] <= '9') || word[1] == '.') continue;
+        if (const auto equals = word.find('='); equals != std::string::npos) word.resize(equals);
+        if (std::find(known.begin(), known.end(), word) != known.end()) continue;
+        std::string best;
+        std::size_t best_distance = 3;
+        for (const auto& name : known) {
+            const std::size_t distance = typo_distance(word, name);
+            if (distance < best_distance) best = name, best_distance = distance;
+        }
+        return "unknown option '" + word + "' for " + path +
+               (best.empty() ? " (see " + path + " --help)" : " (did you mean '" + best + "'?)");
+    }
+    return "";
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -117,7 +184,11 @@ int main(int argc, char** argv) {
         app.parse(argc, argv);  // runs the chosen command's callback
     } catch (const CLI::ParseError& e) {
         if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
-        const std::string unknown = unknown_command(app, argc, argv);
+        std::string unknown = unknown_command(app, argc, argv);
+        if (unknown.empty() && dynamic_cast<const CLI::ExtrasError*>(&e)) {
+            unknown = unknown_option(app, argc, argv);
+            if (unknown.empty()) unknown = unexpected_arguments(e.what(), command_of(app, argc, argv).second);
+        }
         return fail(unknown.empty() ? std::string(e.what()) : unknown, kExitUsage);
     } catch (const stepstone::Interrupted& e) {
         std::cerr << "stepstone: interrupted: " << stepstone::one_line(e.what()) << std::endl;

@@ -41,10 +41,19 @@ std::vector<std::string> parameters_of(std::string_view sql) {
     return names;
 }
 
+// the first sentence of the leading "-- " comment, its lines joined (up to the
+// first ". " or a line ending in "." or ":"; the whole comment if none does)
 std::string summary_of(std::string_view sql) {
-    if (sql.substr(0, 3) != "-- ") return "";
-    const auto end = sql.find('\n');
-    return std::string(sql.substr(3, end == std::string_view::npos ? sql.size() - 3 : end - 3));
+    std::string text;
+    while (sql.substr(0, 3) == "-- ") {
+        const auto end = std::min(sql.find('\n'), sql.size());
+        const std::string_view line = sql.substr(3, end - 3);
+        text += (text.empty() ? "" : " ") + std::string(line);
+        if (const auto stop = text.find(". "); stop != std::string::npos) return text.substr(0, stop + 1);
+        if (line.ends_with(".") || line.ends_with(":")) break;
+        sql = sql.substr(std::min(end + 1, sql.size()));
+    }
+    return text;
 }
 
 std::string joined(const std::vector<std::string>& items) {
@@ -119,6 +128,20 @@ void run_user_query(Connection& connection, const std::string& name,
         if (!seen.count(parameter)) {
             throw ConfigError(concat("query ", query.name, " needs --param ", parameter.substr(1),
                                      "=VALUE (its parameters: ", joined(query.parameters), ")"));
+        }
+    }
+    // a KB name that is not in the file would give an empty table: say so instead
+    for (const auto& [key, value] : given) {
+        if (key != ":kb_name") continue;
+        std::vector<std::string> kbs;
+        auto names = connection.prepare("SELECT name FROM kb ORDER BY id");
+        while (names.step()) kbs.push_back(names.column_text(0));
+        const std::string wanted =
+            value.size() >= 2 && value.front() == '\'' && value.back() == '\'' ? value.substr(1, value.size() - 2)
+                                                                              : value;
+        if (std::find(kbs.begin(), kbs.end(), wanted) == kbs.end()) {
+            throw DataError(concat(connection.name(), ": no knowledge base named \"", wanted, "\" (its KBs: ",
+                                   joined(kbs), ")"));
         }
     }
     for (auto& statement : connection.prepare_all(query.sql)) {

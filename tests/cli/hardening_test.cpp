@@ -270,6 +270,18 @@ TEST_CASE("a mistyped command suggests the nearest one", "[cli][harden][errors]"
     check_refused(test::run_cli({"zzzzzz"}), 2, "unknown command 'zzzzzz'");
 }
 
+TEST_CASE("a mistyped option suggests the nearest one, and extra arguments come back in order",
+          "[cli][harden][errors]") {
+    check_refused(test::run_cli({"evolve", "--db", "x.db", "--generatoins", "10"}), 2,
+                  "unknown option '--generatoins' for stepstone evolve (did you mean '--generations'?)");
+    check_refused(test::run_cli({"kb", "stats", "x.db", "--jsn"}), 2,
+                  "unknown option '--jsn' for stepstone kb stats (did you mean '--json'?)");
+    check_refused(test::run_cli({"demo", "--zzzzzzzz"}), 2,
+                  "unknown option '--zzzzzzzz' for stepstone demo (see stepstone demo --help)");
+    check_refused(test::run_cli({"kb", "stats", "a.db", "b.db", "c.db"}), 2,
+                  "unexpected arguments for stepstone kb stats: b.db c.db");
+}
+
 namespace {
 
 // the README's shell line that starts with `prefix` (joined with its '\' continuations)

@@ -108,6 +108,20 @@ TEST_CASE("query checks its parameters and names the problem", "[cli][query][err
     auto missing = test::run_cli({"query", (dir / "absent.db").string(), "kb_growth", "--param", "kb_name=run"});
     CHECK(missing.exit_code == 1);
     CHECK_THAT(missing.err, Contains((dir / "absent.db").string() + ": no such file"));
+    // a KB name the file does not hold: one line naming the ones it does, not an empty table
+    const auto unknown = test::run_cli({"query", run, "kb_growth", "--param", "kb_name=other"});
+    CHECK(unknown.exit_code == 1);
+    REQUIRE(unknown.err_lines().size() == 1);
+    CHECK_THAT(unknown.err, Contains("no knowledge base named \"other\" (its KBs: run)"));
+    CHECK(unknown.out.empty());
+}
+
+TEST_CASE("query --list gives each query's whole first sentence", "[cli][query]") {
+    const auto list = test::run_cli({"query", "--list"});
+    REQUIRE(list.exit_code == 0);
+    // queries/kb_growth.sql's first sentence spans two comment lines
+    CHECK_THAT(list.out, Contains("kb_growth: KB growth per generation: how many segments each observed generation "
+                                  "inserted into a knowledge base, and the KB's size after it.\n"));
 }
 
 TEST_CASE("export writes tidy CSV that Python's csv module reads, of a run and of a campaign", "[cli][export]") {
