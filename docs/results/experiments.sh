@@ -52,13 +52,15 @@ stats() {  # NAME [PREFIX]: the CSVs and the Kaplan-Meier figure of the runs tha
 
 pool_e2() {  # E2 = the first machine's 34 runs and e2c's, pooled from their CSVs
     [ -f "$here/e2_part2_runs.csv" ] || return 0
-    "$stepstone" pool --runs "$here/e2_part1_runs.csv" "$here/e2_part2_runs.csv" \
-        --events "$here/e2_part1_events.csv" "$here/e2_part2_events.csv" --force \
-        --runs-csv "$here/e2_runs.csv" --events-csv "$here/e2_events.csv" --tests-csv "$here/e2_tests.csv" \
-        --logrank-csv "$here/e2_logrank.csv" --kaplan-meier "$here/figures/e2_kaplan_meier.png" \
-        > "$here/e2_stats.txt"
-    "$stepstone" pool --runs "$here/e2_part1_runs.csv" "$here/e2_part2_runs.csv" \
-        --events "$here/e2_part1_events.csv" "$here/e2_part2_events.csv" --event release >> "$here/e2_stats.txt"
+    local program
+    program="$(realpath "$stepstone" 2>/dev/null || command -v "$stepstone")"
+    # in docs/results, so that the text names the inputs as the repository does
+    (cd "$here" && "$program" pool --runs e2_part1_runs.csv e2_part2_runs.csv \
+        --events e2_part1_events.csv e2_part2_events.csv --force \
+        --runs-csv e2_runs.csv --events-csv e2_events.csv --tests-csv e2_tests.csv \
+        --logrank-csv e2_logrank.csv --kaplan-meier figures/e2_kaplan_meier.png > e2_stats.txt &&
+        "$program" pool --runs e2_part1_runs.csv e2_part2_runs.csv \
+            --events e2_part1_events.csv e2_part2_events.csv --event release >> e2_stats.txt)
     /usr/bin/python3 "$repo/scripts/logrank-check" "$here/e2_events.csv" "$here/e2_logrank.csv" > /dev/null
 }
 
