@@ -3,12 +3,15 @@
 #include <cmath>
 #include <iostream>
 #include <memory>
+#include <nlohmann/json.hpp>
+#include <vector>
 
 #include "commands.hpp"
 #include "core/error.hpp"
 #include "core/output_file.hpp"
 #include "core/text.hpp"
 #include "exp/replay.hpp"
+#include "sim/sensors.hpp"
 #include "sim/step_csv.hpp"
 
 namespace stepstone::app {
@@ -19,10 +22,31 @@ struct ReplayFlags {
     std::string db;
     std::string individual = "best";
     std::string csv;
+    std::string behaviour_json;
     bool force = false;
 };
 
+// {"behaviour": rows of the first start's channels, ...}: the body of the
+// service's /shape, and the file examples/python/kb_client.py reads
+void write_behaviour_json(const ReplayFlags& flags) {
+    if (flags.behaviour_json.empty()) return;
+    exp::Replay facts;
+    const std::vector<float> values = exp::replay_behaviour(flags.db, flags.individual, &facts);
+    nlohmann::json rows = nlohmann::json::array();
+    for (std::size_t at = 0; at + std::size_t{sim::kChannels} <= values.size(); at += std::size_t{sim::kChannels}) {
+        rows.push_back(std::vector<float>(values.begin() + static_cast<std::ptrdiff_t>(at),
+                                          values.begin() + static_cast<std::ptrdiff_t>(at + sim::kChannels)));
+    }
+    const nlohmann::json document{{"behaviour", rows},
+                                  {"individual", facts.individual_id},
+                                  {"generation", facts.generation},
+                                  {"start", 1}};
+    write_output(flags.behaviour_json, flags.force, [&](std::ostream& out) { out << document.dump() << "\n"; });
+}
+
 void run_replay(const ReplayFlags& flags) {
+    if (!flags.csv.empty()) check_output_target(flags.csv, flags.force);
+    if (!flags.behaviour_json.empty()) check_output_target(flags.behaviour_json, flags.force);
     exp::Replay replayed;
     if (flags.csv.empty()) {
         replayed = exp::replay(flags.db, flags.individual);
@@ -41,6 +65,7 @@ void run_replay(const ReplayFlags& flags) {
         throw DataError(concat(flags.db, ": individual ", replayed.individual_id, " replays to reward ",
                                replayed.result.reward, ", the run stored ", replayed.stored_reward));
     }
+    write_behaviour_json(flags);
 }
 
 void add_replay_command(CLI::App& app) {
@@ -49,8 +74,13 @@ void add_replay_command(CLI::App& app) {
     cmd->add_option("db", flags->db, "Run database (opened read-only)")->required();
     cmd->add_option("--individual", flags->individual, "'best' (default) or an individual id");
     cmd->add_option("--csv", flags->csv, "Also write every step as CSV (columns as `stepstone simulate`)");
-    cmd->add_flag("--force", flags->force, "Overwrite an existing --csv file");
-    cmd->footer(example({"stepstone replay run.db --individual best", "stepstone replay run.db --individual 412 --csv best.csv"}));
+    cmd->add_option("--behaviour-json", flags->behaviour_json,
+                    "Also write the first start's behaviour matrix as {\"behaviour\": [[15 channels], ...]} "
+                    "(the body of the service's /shape)");
+    cmd->add_flag("--force", flags->force, "Overwrite an existing --csv or --behaviour-json file");
+    cmd->footer(example({"stepstone replay run.db --individual best",
+                         "stepstone replay run.db --individual 412 --csv best.csv",
+                         "stepstone replay run.db --behaviour-json behaviour.json"}));
     cmd->callback([flags] { run_replay(*flags); });
 }
 

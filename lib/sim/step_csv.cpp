@@ -12,7 +12,7 @@ StepCsvWriter::StepCsvWriter(std::ostream& out) : out_(out) {
 
 void StepCsvWriter::operator()(const StepView& view) {
     char buffer[64];
-    out_ << view.start << ',' << view.step;
+    out_ << view.start + 1 << ',' << view.step;  // starts 1 to K, as render --start numbers them
     for (double v : {view.pose.x, view.pose.y, view.pose.heading}) {
         std::snprintf(buffer, sizeof buffer, ",%.17g", v);
         out_ << buffer;

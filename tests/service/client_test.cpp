@@ -10,6 +10,7 @@
 #include "exp/replay.hpp"
 #include "report/runs.hpp"
 #include "server_process.hpp"
+#include "support/run_cli.hpp"
 #include "support/temp_dir.hpp"
 
 using namespace stepstone;
@@ -18,13 +19,24 @@ TEST_CASE("the Python client shapes a behaviour and prints the in-process r_max"
     REQUIRE(std::system("python3 --version > /dev/null 2>&1") == 0);  // scripts/setup-deps installs python3
     test::TempDir dir;
     reporttest::make_run(dir / "run.db");
+    // the file as a user gets it: stepstone replay --behaviour-json, read back bit for bit
+    const auto replayed = test::run_cli({"replay", (dir / "run.db").string(), "--behaviour-json",
+                                         (dir / "behaviour.json").string()});
+    INFO(replayed.err);
+    REQUIRE(replayed.exit_code == 0);
     const auto behaviour = exp::replay_behaviour(dir / "run.db", "best");
-    nlohmann::json rows = nlohmann::json::array();
-    for (std::size_t r = 0; r < behaviour.size() / 15; ++r) {
-        rows.push_back(std::vector<float>(behaviour.begin() + static_cast<long>(r * 15),
-                                          behaviour.begin() + static_cast<long>((r + 1) * 15)));
+    const auto document = nlohmann::json::parse(test::read_file(dir / "behaviour.json"));
+    REQUIRE(document["behaviour"].size() * 15 == behaviour.size());
+    CHECK(document["start"] == 1);
+    for (std::size_t r = 0; r < document["behaviour"].size(); ++r) {
+        for (std::size_t c = 0; c < 15; ++c) {
+            REQUIRE(document["behaviour"][r][c].get<float>() == behaviour[r * 15 + c]);
+        }
     }
-    test::write_file(dir / "behaviour.json", nlohmann::json{{"behaviour", rows}}.dump());
+    // an existing file is kept without --force
+    CHECK(test::run_cli({"replay", (dir / "run.db").string(), "--behaviour-json",
+                         (dir / "behaviour.json").string()})
+              .exit_code != 0);
     const auto expected = exp::shape_policy(dir / "run.db", dir / "run.db", "best", "run");
 
     servicetest::ServerProcess server({(dir / "run.db").string()}, dir.path());

@@ -29,6 +29,9 @@ TEST_CASE("simulate writes one CSV row per step and the same file on every run",
     // header + 2 starts x 50 steps (a random controller rarely stays still)
     CHECK(std::count(text.begin(), text.end(), '\n') == 101);
     CHECK(text.rfind("start,step,x,y,heading,laser_p45", 0) == 0);
+    // starts are numbered 1 and 2 (render --start's numbers), steps from 0
+    CHECK_THAT(text, Contains("\n1,0,") && Contains("\n1,49,") && Contains("\n2,0,") && Contains("\n2,49,"));
+    CHECK_FALSE(text.find("\n0,") != std::string::npos);
 }
 
 TEST_CASE("simulate refuses an existing file unless forced", "[sim][cli][errors]") {
