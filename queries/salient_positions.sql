@@ -5,7 +5,7 @@
 --
 -- The run file stores no poses: replay the policy to get them, then join its
 -- steps to the windows. The behaviour, hence every segment, is the first
--- start's (CSV column start = 0); row `step` of the CSV is time step `step`.
+-- start's (CSV column start = 1); row `step` of the CSV is time step `step`.
 --
 --   stepstone replay run.db --individual 12 --csv steps.csv
 --   sqlite3 run.db
@@ -17,7 +17,7 @@
 --     SELECT w.window_index, avg(p.x) AS x, avg(p.y) AS y, w.average_saliency
 --     FROM w
 --     JOIN temp.replay_step AS p
---       ON p.start = 0 AND p.step >= w.step_start AND p.step < w.step_end
+--       ON p.start = 1 AND p.step >= w.step_start AND p.step < w.step_end
 --     GROUP BY w.window_index ORDER BY w.window_index;
 --
 -- SQLite allows no parameters in views, hence the CTE. A policy that stopped

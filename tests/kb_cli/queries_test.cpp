@@ -209,7 +209,7 @@ TEST_CASE("salient_positions.sql joins with the replay CSV as its header describ
     REQUIRE(test::run_cli({"replay", annotated.run.string(), "--individual", std::to_string(annotated.best),
                            "--csv", csv.string()})
                 .exit_code == 0);
-    // the CSV's start, step, x, y; the mean x per 50-step window of start 0, by hand
+    // the CSV's start, step, x, y; the mean x per 50-step window of start 1 (the first), by hand
     std::ifstream in(csv);
     std::string line;
     std::getline(in, line);
@@ -224,7 +224,7 @@ TEST_CASE("salient_positions.sql joins with the replay CSV as its header describ
         std::getline(fields, x, ',');
         std::getline(fields, y, ',');
         steps.emplace_back(std::stoll(start), std::stoll(step), std::stod(x), std::stod(y));
-        if (std::stoll(start) == 0) {
+        if (std::stoll(start) == 1) {
             auto& [sum, n] = mean_x[std::stoll(step) / 50];
             sum += std::stod(x);
             ++n;
@@ -247,7 +247,7 @@ TEST_CASE("salient_positions.sql joins with the replay CSV as its header describ
                   "WITH w AS (" + query +
                       "\n)\nSELECT w.window_index, avg(p.x) AS x, avg(p.y) AS y, w.average_saliency\n"
                       "FROM w\nJOIN temp.replay_step AS p\n"
-                      "  ON p.start = 0 AND p.step >= w.step_start AND p.step < w.step_end\n"
+                      "  ON p.start = 1 AND p.step >= w.step_start AND p.step < w.step_end\n"
                       "GROUP BY w.window_index ORDER BY w.window_index",
                   {{"kb_name", std::string("run-rand")},
                    {"individual_id", annotated.best},
