@@ -85,6 +85,17 @@ std::string short_number(double value) {
     return buffer;
 }
 
+// every run's row at the chosen generation
+std::vector<RunRow> run_rows(const CampaignStats& stats) {
+    const auto g = static_cast<std::size_t>(stats.generation);
+    std::vector<RunRow> rows;
+    for (const auto& run : stats.runs) {
+        rows.push_back({run.treatment, run.seed, stats.generation, run.best[g], run.best[g] >= stats.threshold,
+                        run.policies, run.ball_policies, run.mean_r_max});
+    }
+    return rows;
+}
+
 }  // namespace
 
 std::vector<PairTest> pair_tests(std::span<const TreatmentResult> treatments) {
@@ -177,23 +188,8 @@ CampaignStats campaign_stats(const fs::path& dir, std::optional<int> generation,
     stats.generation = *generation;
     const auto g = static_cast<std::size_t>(stats.generation);
 
-    for (auto& t : stats.treatments) {
-        double r_max_sum = 0;
-        std::size_t with_r_max = 0;
-        for (const auto& run : stats.runs) {
-            if (run.treatment != t.treatment) continue;
-            t.best.push_back(run.best[g]);
-            t.policies += run.policies;
-            t.ball_policies += run.ball_policies;
-            if (run.mean_r_max) {
-                r_max_sum += *run.mean_r_max;
-                ++with_r_max;
-            }
-        }
-        if (with_r_max > 0) t.mean_r_max = r_max_sum / static_cast<double>(with_r_max);
-        t.summary = stats::summarize(t.best);
-        t.successes = stats::count_at_least(t.best, threshold);
-    }
+    const std::vector<RunRow> rows = run_rows(stats);
+    for (auto& t : stats.treatments) t = treatment_result(t.treatment, rows, threshold);
     stats.successes.assign(g + 1, std::vector<std::size_t>(stats.treatments.size(), 0));
     for (std::size_t k = 0; k <= g; ++k) {
         for (std::size_t t = 0; t < stats.treatments.size(); ++t) {
@@ -366,14 +362,27 @@ void write_run_rows(std::ostream& out, std::span<const RunRow> rows) {
     }
 }
 
-void write_runs_csv(std::ostream& out, const CampaignStats& stats) {
-    const auto g = static_cast<std::size_t>(stats.generation);
-    std::vector<RunRow> rows;
-    for (const auto& run : stats.runs) {
-        rows.push_back({run.treatment, run.seed, stats.generation, run.best[g],
-                        run.best[g] >= stats.threshold, run.policies, run.ball_policies, run.mean_r_max});
+void write_runs_csv(std::ostream& out, const CampaignStats& stats) { write_run_rows(out, run_rows(stats)); }
+
+TreatmentResult treatment_result(Treatment t, std::span<const RunRow> runs, double threshold) {
+    TreatmentResult result;
+    result.treatment = t;
+    double r_max_sum = 0;
+    std::size_t with_r_max = 0;
+    for (const auto& run : runs) {
+        if (run.treatment != t) continue;
+        result.best.push_back(run.best_reward);
+        result.policies += run.policies;
+        result.ball_policies += run.ball_policies;
+        if (run.mean_r_max) {
+            r_max_sum += *run.mean_r_max;
+            ++with_r_max;
+        }
     }
-    write_run_rows(out, rows);
+    if (with_r_max > 0) result.mean_r_max = r_max_sum / static_cast<double>(with_r_max);
+    result.summary = stats::summarize(result.best);
+    result.successes = stats::count_at_least(result.best, threshold);
+    return result;
 }
 
 void write_pair_tests_csv(std::ostream& out, std::span<const PairTest> tests) {

@@ -92,6 +92,10 @@ struct RunRow {
     std::int64_t ball_policies = 0;
     std::optional<double> mean_r_max;
 };
+/// The figures of treatment `t` from its rows of `runs` (other treatments'
+/// skipped): best rewards in row order, their summary, the successes at
+/// `threshold`, the policy counts summed, the mean of the runs' mean_r_max.
+TreatmentResult treatment_result(Treatment t, std::span<const RunRow> runs, double threshold);
 /// `treatment,seed,generation,best_reward,success,policies,ball_policies,mean_r_max`
 /// with a header line; mean_r_max empty when absent, numbers to 17 digits.
 void write_run_rows(std::ostream& out, std::span<const RunRow> rows);

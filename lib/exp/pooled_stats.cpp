@@ -228,26 +228,7 @@ PooledStats pool_stats(std::span<const fs::path> runs_files, std::span<const fs:
         stats.runs.push_back(row);
         stats.run_events.push_back({key.first, key.second, events.at(key).first});
     }
-    for (Treatment t : order) {
-        TreatmentResult result;
-        result.treatment = t;
-        double r_max_sum = 0;
-        std::size_t with_r_max = 0;
-        for (const auto& row : stats.runs) {
-            if (row.treatment != t) continue;
-            result.best.push_back(row.best_reward);
-            result.policies += row.policies;
-            result.ball_policies += row.ball_policies;
-            if (row.mean_r_max) {
-                r_max_sum += *row.mean_r_max;
-                ++with_r_max;
-            }
-        }
-        if (with_r_max > 0) result.mean_r_max = r_max_sum / static_cast<double>(with_r_max);
-        result.summary = stats::summarize(result.best);
-        result.successes = stats::count_at_least(result.best, threshold);
-        stats.treatments.push_back(std::move(result));
-    }
+    for (Treatment t : order) stats.treatments.push_back(treatment_result(t, stats.runs, threshold));
     stats.tests = pair_tests(stats.treatments);
     stats.events = campaign_events(stats.run_events, order, stats.generation);
     return stats;
