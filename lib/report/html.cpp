@@ -101,7 +101,9 @@ void write_directory(const fs::path& out, bool force, const std::function<void(c
     if (exists && !fs::is_directory(out)) throw ConfigError(concat(out.string(), " exists and is not a directory"));
     const fs::path parent = out.has_parent_path() ? out.parent_path() : fs::path(".");
     if (!fs::is_directory(parent, error)) {
-        throw ConfigError(concat("cannot write ", out.string(), ": ", parent.string(), " is not a directory"));
+        // the folder it goes in must exist: say which of the two it is
+        throw ConfigError(concat("cannot write ", out.string(), ": ", parent.string(),
+                                 fs::exists(parent, error) ? " is not a directory" : " does not exist"));
     }
     const fs::path temp = parent / concat(".", out.filename().string(), ".tmp-", ::getpid());
     fs::remove_all(temp, error);

@@ -169,6 +169,8 @@ TEST_CASE("a report of a run with no generation, of a foreign file or into an un
                   "foreign.db");
     check_refused(run_cli({"report", (dir / "run.db").string(), "--out", (dir / "file.txt" / "rep").string()}), dir.path(),
                   before, "file.txt is not a directory");
+    check_refused(run_cli({"report", (dir / "run.db").string(), "--out", (dir / "absent" / "rep").string()}),
+                  dir.path(), before, "absent does not exist");
     check_refused(run_cli({"report", (dir / "nowhere").string(), "--out", (dir / "rep").string()}), dir.path(), before,
                   "no such file or directory");
     check_refused(run_cli({"report", dir.path().string(), "--out", (dir / "rep").string()}), dir.path(), before,
