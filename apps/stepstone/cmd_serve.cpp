@@ -3,6 +3,7 @@
 #include <memory>
 
 #include "commands.hpp"
+#include "core/error.hpp"
 #include "service/service.hpp"
 
 namespace stepstone::app {
@@ -18,7 +19,8 @@ void add_serve_command(CLI::App& app) {
     cmd->add_option("input", *input, "KB file, run file, or campaign directory")->required();
     cmd->add_option("--bind", options->bind, "Address to listen on (default 127.0.0.1; others need --token-file)");
     cmd->add_option("--port", options->port, "Port (default 8080; 0: any free port, printed)");
-    cmd->add_option("--threads", options->threads, "Request threads (default: every core, at least 2)");
+    auto* threads = cmd->add_option("--threads", options->threads,
+                                    "Request threads, 1 to 1024 (default: every core, at least 2)");
     cmd->add_flag("--writable", options->writable,
                   "Accept observations (POST /v1/kbs/NAME/observe); opens the files for writing; needs --token-file");
     cmd->add_option("--token-file", *token, "File whose first line is the bearer token every /v1 request must carry");
@@ -27,7 +29,9 @@ void add_serve_command(CLI::App& app) {
     cmd->footer(example({"stepstone serve demo-out/campaign --port 8080   # then open http://127.0.0.1:8080/",
                          "curl -s http://127.0.0.1:8080/v1/kbs",
                          "stepstone serve kb.db --writable --token-file token.txt --port 9000"}));
-    cmd->callback([options, input, token] {
+    cmd->callback([options, input, token, threads] {
+        // 0 is the default's "every core", not a value to give
+        if (threads->count() > 0 && options->threads == 0) throw ConfigError("--threads must be within 1 to 1024, got 0");
         options->input = *input;
         options->token_file = *token;
         service::serve(*options);
