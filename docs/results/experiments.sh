@@ -50,17 +50,17 @@ stats() {  # NAME [PREFIX]: the CSVs and the Kaplan-Meier figure of the runs tha
     /usr/bin/python3 "$repo/scripts/logrank-check" "$here/${name}_events.csv" "$here/${name}_logrank.csv" > /dev/null
 }
 
-pool_e2() {  # E2 = the first machine's 34 runs and e2c's, pooled from their CSVs
+pool_e2() {  # E2 = every part's runs (e2_part1_*: the first machine's 34, e2_part2_*: e2c's, ...), pooled
     [ -f "$here/e2_part2_runs.csv" ] || return 0
     local program
     program="$(realpath "$stepstone" 2>/dev/null || command -v "$stepstone")"
     # in docs/results, so that the text names the inputs as the repository does
-    (cd "$here" && "$program" pool --runs e2_part1_runs.csv e2_part2_runs.csv \
-        --events e2_part1_events.csv e2_part2_events.csv --force \
-        --runs-csv e2_runs.csv --events-csv e2_events.csv --tests-csv e2_tests.csv \
-        --logrank-csv e2_logrank.csv --kaplan-meier figures/e2_kaplan_meier.png > e2_stats.txt &&
-        "$program" pool --runs e2_part1_runs.csv e2_part2_runs.csv \
-            --events e2_part1_events.csv e2_part2_events.csv --event release | sed -n "/^time to first/,\$p" >> e2_stats.txt)
+    (cd "$here" && runs=(e2_part*_runs.csv) && events=(e2_part*_events.csv) &&
+        "$program" pool --runs "${runs[@]}" --events "${events[@]}" --force \
+            --runs-csv e2_runs.csv --events-csv e2_events.csv --tests-csv e2_tests.csv \
+            --logrank-csv e2_logrank.csv --kaplan-meier figures/e2_kaplan_meier.png > e2_stats.txt &&
+        "$program" pool --runs "${runs[@]}" --events "${events[@]}" --event release |
+            sed -n "/^time to first/,\$p" >> e2_stats.txt)
     /usr/bin/python3 "$repo/scripts/logrank-check" "$here/e2_events.csv" "$here/e2_logrank.csv" > /dev/null
 }
 
