@@ -59,8 +59,8 @@ pool_e2() {  # E2 = every part's runs (e2_part1_*: the first machine's 34, e2_pa
         "$program" pool --runs "${runs[@]}" --events "${events[@]}" --force \
             --runs-csv e2_runs.csv --events-csv e2_events.csv --tests-csv e2_tests.csv \
             --logrank-csv e2_logrank.csv --kaplan-meier figures/e2_kaplan_meier.png > e2_stats.txt &&
-        "$program" pool --runs "${runs[@]}" --events "${events[@]}" --event release |
-            sed -n "/^time to first/,\$p" >> e2_stats.txt)
+        { echo; "$program" pool --runs "${runs[@]}" --events "${events[@]}" --event release |
+            sed -n "/^time to first/,\$p"; } >> e2_stats.txt)
     /usr/bin/python3 "$repo/scripts/logrank-check" "$here/e2_events.csv" "$here/e2_logrank.csv" > /dev/null
 }
 
