@@ -33,7 +33,8 @@ void write_behaviour_json(const ReplayFlags& flags) {
     exp::Replay facts;
     const std::vector<float> values = exp::replay_behaviour(flags.db, flags.individual, &facts);
     nlohmann::json rows = nlohmann::json::array();
-    for (std::size_t at = 0; at + std::size_t{sim::kChannels} <= values.size(); at += std::size_t{sim::kChannels}) {
+    for (std::size_t at = 0; at + std::size_t{sim::kChannels} <= values.size();
+         at += std::size_t{sim::kChannels}) {
         rows.push_back(std::vector<float>(values.begin() + static_cast<std::ptrdiff_t>(at),
                                           values.begin() + static_cast<std::ptrdiff_t>(at + sim::kChannels)));
     }
@@ -41,7 +42,8 @@ void write_behaviour_json(const ReplayFlags& flags) {
                                   {"individual", facts.individual_id},
                                   {"generation", facts.generation},
                                   {"start", 1}};
-    write_output(flags.behaviour_json, flags.force, [&](std::ostream& out) { out << document.dump() << "\n"; });
+    write_output(flags.behaviour_json, flags.force,
+                 [&](std::ostream& out) { out << document.dump() << "\n"; });
 }
 
 void run_replay(const ReplayFlags& flags) {

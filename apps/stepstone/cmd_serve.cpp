@@ -31,7 +31,8 @@ void add_serve_command(CLI::App& app) {
                          "stepstone serve kb.db --writable --token-file token.txt --port 9000"}));
     cmd->callback([options, input, token, threads] {
         // 0 is the default's "every core", not a value to give
-        if (threads->count() > 0 && options->threads == 0) throw ConfigError("--threads must be within 1 to 1024, got 0");
+        if (threads->count() > 0 && options->threads == 0)
+            throw ConfigError("--threads must be within 1 to 1024, got 0");
         options->input = *input;
         options->token_file = *token;
         service::serve(*options);

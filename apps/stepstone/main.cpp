@@ -141,8 +141,8 @@ std::string unexpected_arguments(const std::string& message, const std::string& 
     }
     std::string listed;
     for (auto it = words.rbegin(); it != words.rend(); ++it) listed += (listed.empty() ? "" : " ") + *it;
-    return stepstone::concat(words.size() == 1 ? "unexpected argument for " : "unexpected arguments for ", path, ": ",
-                        listed, " (see ", path, " --help)");
+    return stepstone::concat(words.size() == 1 ? "unexpected argument for " : "unexpected arguments for ",
+                             path, ": ", listed, " (see ", path, " --help)");
 }
 
 std::string unknown_option(const CLI::App& app, int argc, char** argv) {
@@ -155,7 +155,8 @@ std::string unknown_option(const CLI::App& app, int argc, char** argv) {
     for (int k = 1; k < argc; ++k) {
         std::string word = argv[k];
         if (word == "--") break;
-        if (word.size() < 2 || word[0] != '-' || (word[1] >= '0' && word[1] <= '9') || word[1] == '.') continue;
+        if (word.size() < 2 || word[0] != '-' || (word[1] >= '0' && word[1] <= '9') || word[1] == '.')
+            continue;
         if (const auto equals = word.find('='); equals != std::string::npos) word.resize(equals);
         if (std::find(known.begin(), known.end(), word) != known.end()) continue;
         std::string best;

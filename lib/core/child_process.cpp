@@ -60,7 +60,10 @@ std::vector<ChildExit> reap_children() {
     return ended;
 }
 
-bool stopped_on_request(int status) { return WIFEXITED(status) && WEXITSTATUS(status) == kExitStopped; }
+bool stopped_on_request(int status) {
+    if (WIFSIGNALED(status)) return WTERMSIG(status) == SIGTERM || WTERMSIG(status) == SIGINT;
+    return WIFEXITED(status) && WEXITSTATUS(status) == kExitStopped;
+}
 
 bool exited_cleanly(int status) { return WIFEXITED(status) && WEXITSTATUS(status) == 0; }
 

@@ -35,7 +35,9 @@ bool exited_cleanly(int status);
 /// safe point (its work committed, a resume continues it).
 inline constexpr int kExitStopped = 130;
 
-/// True when `status` (from waitpid) is such a stop: exit code kExitStopped.
+/// True when `status` (from waitpid) is such a stop, exit code kExitStopped,
+/// or an end by SIGTERM or SIGINT (a signal that came before the child took
+/// them: it had written nothing yet).
 bool stopped_on_request(int status);
 
 /// Why a child ended, for a failure message: "killed by signal N" when a

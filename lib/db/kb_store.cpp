@@ -162,8 +162,8 @@ StoredKb load_kb(Connection& connection, const std::string& name) {
         record.last = {static_cast<std::uint32_t>(select.column_int(5)), select.column_int(6)};
         const auto blob = select.column_blob(7);
         const auto bad = [&](const std::string& problem) {
-            return DatabaseError(
-                concat(connection.name(), ": knowledge base \"", chosen->name, "\" segment ", id, " ", problem));
+            return DatabaseError(concat(connection.name(), ": knowledge base \"", chosen->name, "\" segment ",
+                                        id, " ", problem));
         };
         if (count < 1) throw bad(concat("has count ", count, " (at least 1 expected)"));
         if (!std::isfinite(record.cum_reward)) {

@@ -136,12 +136,12 @@ void run_user_query(Connection& connection, const std::string& name,
         std::vector<std::string> kbs;
         auto names = connection.prepare("SELECT name FROM kb ORDER BY id");
         while (names.step()) kbs.push_back(names.column_text(0));
-        const std::string wanted =
-            value.size() >= 2 && value.front() == '\'' && value.back() == '\'' ? value.substr(1, value.size() - 2)
-                                                                              : value;
+        const std::string wanted = value.size() >= 2 && value.front() == '\'' && value.back() == '\''
+                                       ? value.substr(1, value.size() - 2)
+                                       : value;
         if (std::find(kbs.begin(), kbs.end(), wanted) == kbs.end()) {
-            throw DataError(concat(connection.name(), ": no knowledge base named \"", wanted, "\" (its KBs: ",
-                                   joined(kbs), ")"));
+            throw DataError(concat(connection.name(), ": no knowledge base named \"", wanted,
+                                   "\" (its KBs: ", joined(kbs), ")"));
         }
     }
     for (auto& statement : connection.prepare_all(query.sql)) {

@@ -112,10 +112,11 @@ CampaignSummary run_campaign(const CampaignOptions& given) {
     if (InterruptGuard::received() && summary.finished < summary.runs) {
         db::finish_writing(connection);  // no -wal / -shm left beside campaign.db
         connection.close();
-        throw Interrupted(concat("campaign stopped with ", summary.finished, " of ", summary.runs,
-                                 " runs finished; every run file keeps its committed generations; continue with: "
-                                 "stepstone campaign ",
-                                 options.config_path.string(), " --dir ", options.dir.string(), " --resume"));
+        throw Interrupted(
+            concat("campaign stopped with ", summary.finished, " of ", summary.runs,
+                   " runs finished; every run file keeps its committed generations; continue with: "
+                   "stepstone campaign ",
+                   options.config_path.string(), " --dir ", options.dir.string(), " --resume"));
     }
     return summary;
 }

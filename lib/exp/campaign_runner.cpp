@@ -1,8 +1,8 @@
 #include "exp/campaign_runner.hpp"
 
 #include <algorithm>
-#include <csignal>
 #include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <deque>
 #include <map>

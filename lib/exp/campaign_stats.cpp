@@ -90,8 +90,8 @@ std::vector<RunRow> run_rows(const CampaignStats& stats) {
     const auto g = static_cast<std::size_t>(stats.generation);
     std::vector<RunRow> rows;
     for (const auto& run : stats.runs) {
-        rows.push_back({run.treatment, run.seed, stats.generation, run.best[g], run.best[g] >= stats.threshold,
-                        run.policies, run.ball_policies, run.mean_r_max});
+        rows.push_back({run.treatment, run.seed, stats.generation, run.best[g],
+                        run.best[g] >= stats.threshold, run.policies, run.ball_policies, run.mean_r_max});
     }
     return rows;
 }

@@ -405,6 +405,11 @@ kb::KbParams kb_params(const KbConfig& config) {
 }  // namespace
 
 EvolveSummary run_evolve(const EvolveOptions& options) {
+    // Ctrl-C and SIGTERM stop at the next generation boundary; taken first, so that a signal
+    // while the run is set up (a large KB loads for seconds) stops it there too, not by the
+    // default action
+    std::optional<InterruptGuard> interrupts;
+    if (options.stop_on_signals) interrupts.emplace();
     const std::string name = options.db_path.string();
     if (options.config_path.empty() && !options.resume) {
         throw ConfigError("--config is required (except with --resume, which reads the run's stored config)");
@@ -506,8 +511,6 @@ EvolveSummary run_evolve(const EvolveOptions& options) {
     Progress progress("generation", static_cast<std::uint64_t>(target), options.progress);
     const double started = now_seconds();
     std::int64_t evaluations_here = 0;
-    std::optional<InterruptGuard> interrupts;  // Ctrl-C and SIGTERM stop at the next generation boundary
-    if (options.stop_on_signals) interrupts.emplace();
     const auto stop = [&](int committed, const std::string& reason) {
         // every committed generation goes into the main file: no -wal / -shm is left beside it
         db::finish_writing(connection);

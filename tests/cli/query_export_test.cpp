@@ -120,8 +120,9 @@ TEST_CASE("query --list gives each query's whole first sentence", "[cli][query]"
     const auto list = test::run_cli({"query", "--list"});
     REQUIRE(list.exit_code == 0);
     // queries/kb_growth.sql's first sentence spans two comment lines
-    CHECK_THAT(list.out, Contains("kb_growth: KB growth per generation: how many segments each observed generation "
-                                  "inserted into a knowledge base, and the KB's size after it.\n"));
+    CHECK_THAT(list.out,
+               Contains("kb_growth: KB growth per generation: how many segments each observed generation "
+                        "inserted into a knowledge base, and the KB's size after it.\n"));
 }
 
 TEST_CASE("export writes tidy CSV that Python's csv module reads, of a run and of a campaign", "[cli][export]") {

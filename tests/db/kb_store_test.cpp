@@ -92,8 +92,9 @@ TEST_CASE("a malformed stored segment is refused with the KB named", "[db][kb][e
     CHECK_THROWS_WITH(db::load_kb(connection),
                       Contains("bad.db: knowledge base \"run\" segment 1 holds 2 value bytes, expected"));
     // (a count below 1 the schema's CHECK constraint refuses to store)
-    connection.exec("UPDATE kb_segment SET segment_values = (SELECT segment_values FROM kb_segment WHERE id = 0), "
-                    "cum_reward = 1e999 WHERE id = 1");
+    connection.exec(
+        "UPDATE kb_segment SET segment_values = (SELECT segment_values FROM kb_segment WHERE id = 0), "
+        "cum_reward = 1e999 WHERE id = 1");
     CHECK_THROWS_WITH(db::load_kb(connection), Contains("segment 1 has a non-finite cum_reward (inf)"));
     CHECK_THROWS_WITH(db::load_kb(connection, "other"), Contains("no knowledge base named \"other\""));
     auto empty = db::open_database(dir / "empty.db", db::OpenMode::create);

@@ -446,8 +446,10 @@ TEST_CASE("every example campaign parses; the demo's KB fixture loads with rewar
     CHECK_FALSE(std::filesystem::exists(dir / "x.db"));
 }
 
-TEST_CASE("SIGTERM stops a campaign cleanly: runs end their generation, nothing is left running, resume equals whole",
-          "[exp][campaign][cli][resume][signals]") {
+TEST_CASE(
+    "SIGTERM stops a campaign cleanly: runs end their generation, nothing is left running, resume equals "
+    "whole",
+    "[exp][campaign][cli][resume][signals]") {
     test::TempDir dir;
     test::write_file(dir / "c.json", campaign_json(60, 1000));
     REQUIRE(campaign(dir, "whole", {"--jobs", "2"}).exit_code == 0);
@@ -469,7 +471,8 @@ TEST_CASE("SIGTERM stops a campaign cleanly: runs end their generation, nothing 
                             stopped.string() + " --resume"));
     {
         auto connection = db::open_database(stopped / "campaign.db", db::OpenMode::read_only);
-        CHECK(connection.query_int("SELECT count(*) FROM campaign_run WHERE status IN ('running', 'failed')") == 0);
+        CHECK(connection.query_int(
+                  "SELECT count(*) FROM campaign_run WHERE status IN ('running', 'failed')") == 0);
     }
     // every file closed as evolve closes it on a stop: no WAL beside any of them
     for (const auto& entry : std::filesystem::recursive_directory_iterator(stopped)) {

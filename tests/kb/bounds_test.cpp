@@ -35,7 +35,8 @@ TEST_CASE("a reward beyond the bound is refused before anything changes, and sum
     CHECK(kb.sources()[0].policies == 2);
 }
 
-TEST_CASE("a loaded record whose cum_reward no valid rewards reach is refused, naming it", "[kb][errors][bounds]") {
+TEST_CASE("a loaded record whose cum_reward no valid rewards reach is refused, naming it",
+          "[kb][errors][bounds]") {
     const auto params = kbtest::params_of(2, 2, 1.0);
     const std::vector<float> values{0, 0, 0, 0, 5, 5, 5, 5};
     std::vector<kb::SegmentRecord> records{{1.0, 1, {0, 0}, {0, 0}}, {3e289, 2, {0, 0}, {0, 0}}};
@@ -47,8 +48,9 @@ TEST_CASE("a loaded record whose cum_reward no valid rewards reach is refused, n
 }
 
 TEST_CASE("run names: 1 to 256 bytes of UTF-8 without control characters", "[kb][errors][names]") {
-    for (const std::string& good : std::vector<std::string>{"run", "seed-1", "r\xc3\xa9sum\xc3\xa9", "\xe6\x97\xa5\xe6\x9c\xac",
-                                   "\xf0\x9f\x99\x82", std::string(256, 'a')}) {
+    for (const std::string& good :
+         std::vector<std::string>{"run", "seed-1", "r\xc3\xa9sum\xc3\xa9", "\xe6\x97\xa5\xe6\x9c\xac",
+                                  "\xf0\x9f\x99\x82", std::string(256, 'a')}) {
         INFO(good);
         CHECK_NOTHROW(kb::check_run_name(good, "name"));
     }
@@ -58,12 +60,12 @@ TEST_CASE("run names: 1 to 256 bytes of UTF-8 without control characters", "[kb]
         {std::string("a\0b", 3), "control character (byte 1)"},
         {"tab\there", "control character (byte 3)"},
         {"x\xff", "not valid UTF-8 (byte 1)"},
-        {"\xc0\xaf", "not valid UTF-8 (byte 0)"},           // overlong '/'
-        {"\xe0\x80\xaf", "not valid UTF-8 (byte 0)"},       // overlong, three bytes
-        {"\xed\xa0\x80", "not valid UTF-8 (byte 0)"},       // a surrogate
-        {"\xf4\x90\x80\x80", "not valid UTF-8 (byte 0)"},   // beyond U+10FFFF
-        {"ab\xe6\x97", "not valid UTF-8 (byte 2)"},         // cut short
-        {"\x80", "not valid UTF-8 (byte 0)"},               // a lone continuation byte
+        {"\xc0\xaf", "not valid UTF-8 (byte 0)"},          // overlong '/'
+        {"\xe0\x80\xaf", "not valid UTF-8 (byte 0)"},      // overlong, three bytes
+        {"\xed\xa0\x80", "not valid UTF-8 (byte 0)"},      // a surrogate
+        {"\xf4\x90\x80\x80", "not valid UTF-8 (byte 0)"},  // beyond U+10FFFF
+        {"ab\xe6\x97", "not valid UTF-8 (byte 2)"},        // cut short
+        {"\x80", "not valid UTF-8 (byte 0)"},              // a lone continuation byte
     };
     for (const auto& [name, message] : bad) {
         INFO(message);

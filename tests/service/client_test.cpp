@@ -20,8 +20,8 @@ TEST_CASE("the Python client shapes a behaviour and prints the in-process r_max"
     test::TempDir dir;
     reporttest::make_run(dir / "run.db");
     // the file as a user gets it: stepstone replay --behaviour-json, read back bit for bit
-    const auto replayed = test::run_cli({"replay", (dir / "run.db").string(), "--behaviour-json",
-                                         (dir / "behaviour.json").string()});
+    const auto replayed = test::run_cli(
+        {"replay", (dir / "run.db").string(), "--behaviour-json", (dir / "behaviour.json").string()});
     INFO(replayed.err);
     REQUIRE(replayed.exit_code == 0);
     const auto behaviour = exp::replay_behaviour(dir / "run.db", "best");
@@ -34,8 +34,8 @@ TEST_CASE("the Python client shapes a behaviour and prints the in-process r_max"
         }
     }
     // an existing file is kept without --force
-    CHECK(test::run_cli({"replay", (dir / "run.db").string(), "--behaviour-json",
-                         (dir / "behaviour.json").string()})
+    CHECK(test::run_cli(
+              {"replay", (dir / "run.db").string(), "--behaviour-json", (dir / "behaviour.json").string()})
               .exit_code != 0);
     const auto expected = exp::shape_policy(dir / "run.db", dir / "run.db", "best", "run");
 

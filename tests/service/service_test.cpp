@@ -340,8 +340,8 @@ TEST_CASE("a second server on a port in use is refused in one line naming the po
     reporttest::make_run(dir / "run.db");
     ServerProcess first({(dir / "run.db").string()}, dir.path());
     const std::string port = std::to_string(first.port());
-    const auto second = test::run_cli_within({"serve", (dir / "run.db").string(), "--port", port},
-                                             std::chrono::seconds(20));
+    const auto second =
+        test::run_cli_within({"serve", (dir / "run.db").string(), "--port", port}, std::chrono::seconds(20));
     CHECK(second.exit_code == 1);  // -1 would mean it was listening (shared with SO_REUSEPORT) until killed
     REQUIRE(second.err_lines().size() == 1);
     CHECK_THAT(second.err_lines()[0], Catch::Matchers::Contains("cannot listen on 127.0.0.1:" + port));
