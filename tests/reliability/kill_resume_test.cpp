@@ -135,12 +135,16 @@ TEST_CASE("readers during a write never see a locked database nor a half-written
                     ++reads;
                     if (result.exit_code != 0) failures.push_back(args[0] + " " + args[1] + ": " + result.err);
                 }
-                // one transaction per generation: the generations, individuals and checkpoint agree
+                // one transaction per generation: the generations, individuals and checkpoint agree.
+                // The four reads share one read transaction (one snapshot); without it the writer
+                // may commit a generation between them.
                 auto connection = db::open_database(run, db::OpenMode::read_only);
+                connection.exec("BEGIN");
                 const auto done = connection.query_int("SELECT generations_done FROM run").value_or(-2);
                 const auto rows = connection.query_int("SELECT COUNT(*) FROM generation").value_or(-2);
                 const auto last = connection.query_int("SELECT MAX(generation) FROM individual").value_or(-1);
                 const auto checkpoint = connection.query_int("SELECT generation FROM checkpoint").value_or(-1);
+                connection.exec("COMMIT");
                 if (rows != done + 1 || last != done || checkpoint != done) {
                     failures.push_back("half-written generation: done " + std::to_string(done) + ", rows " +
                                        std::to_string(rows) + ", individuals up to " + std::to_string(last) +
