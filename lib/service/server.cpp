@@ -9,11 +9,13 @@
 #include <charconv>
 #include <fstream>
 #include <iostream>
+#include <semaphore>
 #include <thread>
 
 #include "core/embedded.hpp"
 #include "core/error.hpp"
 #include "core/text.hpp"
+#include "service/bounded_server.hpp"
 #include "service/service.hpp"
 
 namespace stepstone {
@@ -86,16 +88,14 @@ std::string_view dashboard_html() {
     return "<!DOCTYPE html><title>stepstone</title><p>dashboard missing from this build</p>";
 }
 
-struct HttpServer::Impl {
-    std::string token;
-    std::unique_ptr<KbService> service;
-    httplib::Server server;
-    int port = -1;
-};
+namespace {
 
-HttpServer::HttpServer(const ServeOptions& options) : impl_(std::make_unique<Impl>()) {
-    std::string& token = impl_->token;
-    if (!options.token_file.empty()) token = read_token(options.token_file);
+unsigned work_threads(const ServeOptions& options) {
+    return options.threads > 0 ? options.threads : std::max(2u, std::thread::hardware_concurrency());
+}
+
+// the options' checks, before anything is opened or bound
+void check_options(const ServeOptions& options, const std::string& token) {
     if (token.empty() && !is_loopback(options.bind)) {
         throw ConfigError(concat("--bind ", options.bind, " is not loopback: give --token-file so that only clients "
                                  "with the token are answered"));
@@ -108,24 +108,74 @@ HttpServer::HttpServer(const ServeOptions& options) : impl_(std::make_unique<Imp
     }
     if (options.threads > 1024)
         throw ConfigError(concat("--threads must be within 1 to 1024, got ", options.threads));
+    if (options.connections < 1 || options.connections > 4096)
+        throw ConfigError(concat("--connections must be within 1 to 4096, got ", options.connections));
+}
 
+// the token of --token-file, once every option is checked (before anything is opened or bound)
+std::string checked_token(const ServeOptions& options) {
+    const std::string token = options.token_file.empty() ? std::string() : read_token(options.token_file);
+    check_options(options, token);
+    return token;
+}
+
+std::chrono::milliseconds request_time(const ServeOptions& options) {
+    return std::chrono::milliseconds(static_cast<std::int64_t>(options.timeout_seconds * 1000.0));
+}
+
+// a kept-alive connection waits this long at most for its next request
+constexpr std::chrono::milliseconds kIdleTime{5000};
+
+}  // namespace
+
+struct HttpServer::Impl {
+    explicit Impl(const ServeOptions& options)
+        : token(checked_token(options)), server(request_time(options), kIdleTime), work_slots(work_threads(options)) {}
+    std::string token;
+    std::unique_ptr<KbService> service;
+    BoundedServer server;
+    // requests doing KB work at once (--threads); connections waiting on a
+    // slow client hold none, and /healthz needs none
+    std::counting_semaphore<> work_slots;
+    int port = -1;
+};
+
+namespace {
+
+// RAII: one of the work slots for the handler's time
+class WorkSlot {
+public:
+    explicit WorkSlot(std::counting_semaphore<>& slots) : slots_(slots) { slots_.acquire(); }
+    ~WorkSlot() { slots_.release(); }
+    WorkSlot(const WorkSlot&) = delete;
+    WorkSlot& operator=(const WorkSlot&) = delete;
+
+private:
+    std::counting_semaphore<>& slots_;
+};
+
+}  // namespace
+
+HttpServer::HttpServer(const ServeOptions& options) : impl_(std::make_unique<Impl>(options)) {
+    const std::string& token = impl_->token;
     impl_->service = std::make_unique<KbService>(options.input, options.writable, options.limits);
     KbService& service = *impl_->service;
-    httplib::Server& server = impl_->server;
-    const unsigned threads = options.threads > 0 ? options.threads : std::max(2u, std::thread::hardware_concurrency());
-    server.new_task_queue = [threads] { return new httplib::ThreadPool(threads); };
+    BoundedServer& server = impl_->server;
+    // one thread a connection: a slow client holds its thread, at most --timeout
+    const auto connections = options.connections;
+    server.new_task_queue = [connections] { return new httplib::ThreadPool(connections); };
+    server.set_keep_alive_max_count(100);
     server.set_payload_max_length(options.limits.max_body_bytes);
-    const auto seconds = static_cast<time_t>(options.timeout_seconds);
-    server.set_read_timeout(seconds, 0);
-    server.set_write_timeout(seconds, 0);
-    // every /v1 request passes the token check, then the handler; errors become JSON
+    // every /v1 request passes the token check, then the handler in a work slot; errors become JSON
     using Handler = std::function<void(const httplib::Request&, httplib::Response&)>;
-    const auto guarded = [&token](Handler handler) {
-        return [handler, &token](const httplib::Request& req, httplib::Response& res) {
+    auto& slots = impl_->work_slots;
+    const auto guarded = [&token, &slots](Handler handler) {
+        return [handler, &token, &slots](const httplib::Request& req, httplib::Response& res) {
             try {
                 if (!token.empty() && req.get_header_value("Authorization") != "Bearer " + token) {
                     throw HttpError(401, "missing or wrong bearer token (Authorization: Bearer <token>)");
                 }
+                const WorkSlot slot(slots);
                 handler(req, res);
             } catch (const HttpError& e) {
                 fail(res, e.status(), e.what());
@@ -176,6 +226,10 @@ HttpServer::HttpServer(const ServeOptions& options) : impl_(std::make_unique<Imp
                                                         : concat("HTTP ", res.status);
         fail(res, res.status, message);
     });
+    // an exception no handler caught: a JSON 500 without the library's EXCEPTION_WHAT header
+    server.set_exception_handler([](const httplib::Request&, httplib::Response& res, std::exception_ptr) {
+        fail(res, 500, "internal error");
+    });
 
     // answers leave at once on a reused connection (no Nagle wait for the client's delayed ACK)
     server.set_tcp_nodelay(true);
@@ -202,7 +256,7 @@ int HttpServer::port() const { return impl_->port; }
 
 void HttpServer::run() { impl_->server.listen_after_bind(); }
 
-void HttpServer::stop() { impl_->server.stop(); }
+void HttpServer::stop() { impl_->server.stop_all(); }
 
 void serve(const ServeOptions& options) {
     // block the stop signals in every thread; one thread waits for them

@@ -94,10 +94,11 @@ struct ServeOptions {
     std::filesystem::path input;
     std::string bind = "127.0.0.1";
     int port = 8080;       ///< 0: any free port
-    unsigned threads = 0;  ///< request threads; 0 = every core (at least 2)
+    unsigned threads = 0;  ///< requests doing KB work at once; 0 = every core (at least 2)
+    unsigned connections = 64;  ///< connections served at once (one thread each); more wait to be accepted
     bool writable = false;
     std::filesystem::path token_file;  ///< bearer token; required by --writable and a non-loopback --bind
-    double timeout_seconds = 30.0;     ///< reading or writing one request
+    double timeout_seconds = 30.0;     ///< one request, from its first byte to its answer's last
     Limits limits;
 };
 

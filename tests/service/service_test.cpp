@@ -330,6 +330,8 @@ TEST_CASE("unsafe or bad serve options are refused before listening") {
         refused({"--timeout", timeout}, "--timeout must be within 1 to 3600 seconds");
     refused({"--threads", "5000"}, "--threads must be within 1 to 1024");
     refused({"--threads", "0"}, "--threads must be within 1 to 1024, got 0");
+    refused({"--connections", "0"}, "--connections must be within 1 to 4096, got 0");
+    refused({"--connections", "5000"}, "--connections must be within 1 to 4096, got 5000");
     const auto missing = test::run_cli({"serve", (dir / "none.db").string()});
     CHECK(missing.exit_code == 2);
     CHECK(missing.err_lines().at(0).find("none.db: no such file or directory") != std::string::npos);
