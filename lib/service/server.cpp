@@ -15,6 +15,7 @@
 #include "core/embedded.hpp"
 #include "core/error.hpp"
 #include "core/text.hpp"
+#include "service/body.hpp"
 #include "service/bounded_server.hpp"
 #include "service/service.hpp"
 
@@ -62,17 +63,6 @@ std::uint64_t parse_count(const httplib::Request& req, const char* key, std::uin
         throw HttpError(400, concat(key, " must be a whole number >= 0, got \"", text, '"'));
     }
     return value;
-}
-
-json parse_body(const httplib::Request& req) {
-    try {
-        return json::parse(req.body);
-    } catch (const json::parse_error& e) {
-        throw HttpError(400, concat("malformed JSON: ", e.what()));
-    } catch (const json::exception& e) {
-        // a number beyond double's range (1e400) and the like
-        throw HttpError(400, concat("unreadable JSON: ", e.what()));
-    }
 }
 
 }  // namespace
@@ -195,10 +185,13 @@ HttpServer::HttpServer(const ServeOptions& options) : impl_(std::make_unique<Imp
     server.Get(R"(/v1/kbs/([^/]+))",
                guarded([&](const auto& req, auto& res) { reply(res, 200, service.kb_info(req.matches[1])); }));
     server.Post(R"(/v1/kbs/([^/]+)/lookup)", guarded([&](const auto& req, auto& res) {
-                    reply(res, 200, service.lookup(req.matches[1], parse_body(req)));
+                    // the body's DOM is freed before the answer is written
+                    const auto answer = service.lookup(req.matches[1], parse_body(req.body));
+                    reply(res, 200, answer);
                 }));
     server.Post(R"(/v1/kbs/([^/]+)/shape)", guarded([&](const auto& req, auto& res) {
-                    reply(res, 200, service.shape(req.matches[1], parse_body(req)));
+                    const auto answer = service.shape(req.matches[1], parse_body(req.body));
+                    reply(res, 200, answer);
                 }));
     server.Get(R"(/v1/kbs/([^/]+)/segments)", guarded([&](const auto& req, auto& res) {
                    const auto order = req.has_param("order") ? req.get_param_value("order") : std::string("reward");
@@ -208,7 +201,8 @@ HttpServer::HttpServer(const ServeOptions& options) : impl_(std::make_unique<Imp
                                           parse_count(req, "min_count", 1), values));
                }));
     server.Post(R"(/v1/kbs/([^/]+)/observe)", guarded([&](const auto& req, auto& res) {
-                    reply(res, 200, service.observe(req.matches[1], parse_body(req)));
+                    const auto answer = service.observe(req.matches[1], parse_body(req.body));
+                    reply(res, 200, answer);
                 }));
     server.Get("/v1/runs", guarded([&](const auto&, auto& res) { reply(res, 200, service.runs()); }));
     server.Get(R"(/v1/runs/(\d+)/generations)", guarded([&](const auto& req, auto& res) {

@@ -16,6 +16,7 @@
 #include "exp/kb_stats.hpp"
 #include "exp/run_store.hpp"
 #include "kb/segments.hpp"
+#include "service/body.hpp"
 #include "report/figures.hpp"
 
 namespace stepstone::service {
@@ -43,38 +44,22 @@ json match_json(std::size_t index, const kb::SegmentMatch& m) {
             {"average_reward", m.average_reward}};
 }
 
-// a JSON array of numbers into `out`, all finite; `what` names it in errors
-void read_numbers(const json& array, std::vector<float>& out, std::size_t expected, const std::string& what) {
-    if (!array.is_array()) throw HttpError(400, what + " must be an array of numbers");
-    if (array.size() != expected) {
-        throw HttpError(400, concat(what, " has ", array.size(), " values, the knowledge base expects ", expected));
-    }
-    for (std::size_t k = 0; k < array.size(); ++k) {
-        const auto& v = array[k];
-        if (!v.is_number()) throw HttpError(400, concat(what, "[", k, "] is not a number"));
-        const double d = v.get<double>();
-        if (!std::isfinite(d)) throw HttpError(400, concat(what, "[", k, "] is not finite"));
-        out.push_back(static_cast<float>(d));
-    }
-}
-
 // a behaviour matrix (rows of `channels` values) flattened
 std::vector<float> read_behaviour(const json& rows, const kb::KbParams& params, const std::string& what,
                                   const Limits& limits) {
-    if (!rows.is_array() || rows.empty()) throw HttpError(400, what + " must be a non-empty array of rows");
-    if (rows.size() < params.segment_width) {
-        throw HttpError(400, concat(what, " has ", rows.size(), " rows, fewer than one segment (",
+    const std::size_t count = row_count(rows);
+    if (count == 0) throw HttpError(400, what + " must be a non-empty array of rows");
+    if (count < params.segment_width) {
+        throw HttpError(400, concat(what, " has ", count, " rows, fewer than one segment (",
                                     params.segment_width, " rows)"));
     }
-    if (rows.size() / params.segment_width > limits.max_segments) {
-        throw HttpError(413, concat(what, " has ", rows.size() / params.segment_width, " segments, more than ",
+    if (count / params.segment_width > limits.max_segments) {
+        throw HttpError(413, concat(what, " has ", count / params.segment_width, " segments, more than ",
                                     limits.max_segments));
     }
     std::vector<float> values;
-    values.reserve(rows.size() * params.channels);
-    for (std::size_t r = 0; r < rows.size(); ++r) {
-        read_numbers(rows[r], values, params.channels, concat(what, "[", r, "]"));
-    }
+    values.reserve(count * params.channels);
+    read_rows(rows, params.channels, what, values);
     return values;
 }
 
@@ -189,14 +174,15 @@ json KbService::kb_info(const std::string& name) const {
 json KbService::lookup(const std::string& name, const json& body) const {
     const Kb& kb = find(name);
     const auto& rows = member(body, "segments");
-    if (!rows.is_array()) throw HttpError(400, "\"segments\" must be an array of segments");
-    if (rows.size() > limits_.max_segments) {
-        throw HttpError(413, concat("\"segments\" has ", rows.size(), " segments, more than ", limits_.max_segments));
+    if (!rows.is_array() && row_count(rows) == 0) throw HttpError(400, "\"segments\" must be an array of segments");
+    const std::size_t count = row_count(rows);
+    if (count > limits_.max_segments) {
+        throw HttpError(413, concat("\"segments\" has ", count, " segments, more than ", limits_.max_segments));
     }
     const std::size_t dim = kb.kb.params().dim();
     std::vector<float> values;
-    values.reserve(rows.size() * dim);
-    for (std::size_t i = 0; i < rows.size(); ++i) read_numbers(rows[i], values, dim, concat("segments[", i, "]"));
+    values.reserve(count * dim);
+    read_rows(rows, dim, "segments", values);
     std::shared_lock lock(kb.mutex);
     const auto result = kb.kb.lookup(kb::as_segments(values, dim));
     json matches = json::array();

@@ -21,6 +21,7 @@ public:
     ServerProcess& operator=(const ServerProcess&) = delete;
 
     int port() const { return port_; }
+    pid_t pid() const { return pid_; }
     /// Sends SIGTERM and waits: the exit status (128 + signal if killed).
     int stop();
     std::string err() const;

@@ -1,0 +1,63 @@
+// Request bodies: rows of numbers packed while parsing read back as the
+// numbers a JSON DOM holds, and what cannot be packed is left for the errors.
+
+#include "service/body.hpp"
+
+#include <catch2/catch.hpp>
+#include <cmath>
+
+#include "service/service.hpp"
+
+using namespace stepstone::service;
+using nlohmann::json;
+
+namespace {
+
+std::vector<float> rows_of(const json& rows, std::size_t width) {
+    std::vector<float> out;
+    read_rows(rows, width, "rows", out);
+    return out;
+}
+
+std::string error_of(const json& rows, std::size_t width) {
+    try {
+        rows_of(rows, width);
+    } catch (const HttpError& e) {
+        return e.what();
+    }
+    return "";
+}
+
+}  // namespace
+
+TEST_CASE("rows of numbers are packed as float32 and read back as the unpacked DOM's values") {
+    const std::string text = R"({"m": [[0.1, 2, -3.5e-3], [1e30, 0, -0.0]], "uneven": [[1, 2], [3]], "mixed": [[1, "a"]]})";
+    const json packed = parse_body(text);
+    const json plain = json::parse(text);
+    REQUIRE(packed["m"].is_binary());
+    CHECK(packed["m"].get_binary().subtype() == 3);
+    CHECK(row_count(packed["m"]) == 2);
+    const auto values = rows_of(packed["m"], 3);
+    // what a float32 cast of each parsed double gives, by hand from the text
+    const std::vector<float> expected = {0.1f, 2.0f, -3.5e-3f, 1e30f, 0.0f, -0.0f};
+    REQUIRE(values == expected);
+    CHECK(std::signbit(values[5]));
+    CHECK(rows_of(plain["m"], 3) == expected);
+    // rows of unequal length: each row packed, the matrix not
+    REQUIRE(packed["uneven"].is_array());
+    CHECK(packed["uneven"][0].is_binary());
+    CHECK(row_count(packed["uneven"]) == 2);
+    CHECK(error_of(packed["uneven"], 2) == "rows[1] has 1 values, the knowledge base expects 2");
+    // a string in a row: left as parsed, named in the error
+    CHECK(packed["mixed"][0].is_array());
+    CHECK(error_of(packed["mixed"], 2) == "rows[0][1] is not a number");
+    CHECK(error_of(packed["m"], 4) == "rows[0] has 3 values, the knowledge base expects 4");
+}
+
+TEST_CASE("a number beyond float32's range is refused, not read as infinity") {
+    const json body = parse_body(R"({"m": [[1, 1e300]]})");
+    REQUIRE(body["m"][0].is_array());  // not packed
+    CHECK(error_of(body["m"], 2) == "rows[0][1] is not finite (as a 32-bit float)");
+    CHECK_THROWS_AS(parse_body(R"({"m": [[1e400]]})"), HttpError);
+    CHECK_THROWS_AS(parse_body(R"({"m": [[1, 2)"), HttpError);
+}
