@@ -35,7 +35,8 @@ void print_written(const std::string& out, const exp::KbWritten& kb) {
 struct ExportFlags {
     std::string run;
     std::string out;
-    std::string name = exp::kRunKbName;
+    std::string input_name = exp::kRunKbName;
+    std::string name;
     std::optional<double> delta;
     bool force = false;
 };
@@ -45,7 +46,8 @@ void add_export(CLI::App& kb_cmd) {
     auto* cmd = kb_cmd.add_subcommand("export", "Write a run's knowledge base as a standalone KB file");
     cmd->add_option("run", flags->run, "Run database (opened read-only)")->required();
     cmd->add_option("--out", flags->out, "New KB file (written atomically)")->required();
-    cmd->add_option("--name", flags->name, "Name of the KB in the run file (default: " + flags->name + ")");
+    cmd->add_option("--kb-name", flags->input_name, "Which KB of the run file (default: " + flags->input_name + ")");
+    cmd->add_option("--name", flags->name, "Name of the KB written (default: the input's name)");
     cmd->add_option("--delta", flags->delta,
                     "Coarsen: re-observe the KB's segments under this larger delta (a smaller KB)");
     cmd->add_flag("--force", flags->force, "Overwrite an existing --out file");
@@ -53,7 +55,7 @@ void add_export(CLI::App& kb_cmd) {
                          "stepstone kb export run.db --out kb-coarse.db --delta 4"}));
     cmd->callback([flags] {
         print_written(flags->out,
-                      exp::export_kb(flags->run, flags->name, flags->out, flags->force, flags->delta));
+                      exp::export_kb(flags->run, flags->input_name, flags->out, flags->force, flags->delta, flags->name));
     });
 }
 
@@ -184,7 +186,7 @@ void add_calibrate(CLI::App& kb_cmd) {
 
 struct StatsFlags {
     std::string kb;
-    std::string name;
+    std::string input_name;
     bool json = false;
 };
 
@@ -193,11 +195,11 @@ void add_stats(CLI::App& kb_cmd) {
     auto* cmd = kb_cmd.add_subcommand(
         "stats", "Size, parameters, average-reward histogram, counts and provenance of a knowledge base");
     cmd->add_option("kb", flags->kb, "KB or run file (opened read-only)")->required();
-    cmd->add_option("--name", flags->name, "Which KB of the file (default: its only one)");
+    cmd->add_option("--kb-name", flags->input_name, "Which KB of the file (default: its only one)");
     cmd->add_flag("--json", flags->json, "Print JSON instead of text");
-    cmd->footer(example({"stepstone kb stats kb.db", "stepstone kb stats run.db --name run --json"}));
+    cmd->footer(example({"stepstone kb stats kb.db", "stepstone kb stats run.db --kb-name run --json"}));
     cmd->callback([flags] {
-        const auto stats = exp::kb_file_stats(flags->kb, flags->name);
+        const auto stats = exp::kb_file_stats(flags->kb, flags->input_name);
         if (flags->json) {
             std::cout << to_json(stats).dump(2) << '\n';
         } else {
@@ -254,7 +256,7 @@ void add_kb_command(CLI::App& app) {
     add_annotate(*kb_cmd);
 }
 
-const CommandRegistrar registrar(40, add_kb_command);
+const CommandRegistrar kb_registrar(40, add_kb_command);
 
 }  // namespace
 

@@ -56,20 +56,21 @@ db::StoredKb load_kb_file(const fs::path& path, const std::string& name) {
 }
 
 KbWritten export_kb(const fs::path& run_db, const std::string& name, const fs::path& out, bool force,
-                    std::optional<double> delta) {
+                    std::optional<double> delta, const std::string& out_name) {
     db::check_output_path(out, force);
     const auto stored = load_kb_file(run_db, name);
+    const std::string written_name = out_name.empty() ? stored.name : out_name;
     if (!delta) {
-        write_kb_file(out, force, stored.name, stored.kb, stored.randomized_seed);
-        return written(stored.name, stored.kb, stored.randomized_seed);
+        write_kb_file(out, force, written_name, stored.kb, stored.randomized_seed);
+        return written(written_name, stored.kb, stored.randomized_seed);
     }
     if (stored.randomized_seed) {
         throw DataError(concat(file_name(run_db), ": \"", stored.name,
                                "\" is randomized; coarsen the real KB, then randomize it"));
     }
     const kb::KnowledgeBase coarse = stored.kb.coarsened(*delta);
-    write_kb_file(out, force, stored.name, coarse, std::nullopt);
-    return written(stored.name, coarse, std::nullopt);
+    write_kb_file(out, force, written_name, coarse, std::nullopt);
+    return written(written_name, coarse, std::nullopt);
 }
 
 KbWritten merge_kb_files(std::span<const fs::path> inputs, const fs::path& out, const std::string& name,

@@ -30,14 +30,16 @@ struct KbWritten {
 db::StoredKb load_kb_file(const std::filesystem::path& path, const std::string& name);
 
 /// `kb export`: copies the KB called `name` of `run_db` (parameters, sources,
-/// segments, randomized seed) into a new file `out` under the same name.
+/// segments, randomized seed) into a new file `out`, named `out_name` (empty:
+/// the same name).
 /// Throws DataError if the run file has no such KB, DatabaseError for an
 /// unusable file, ConfigError for an existing output without `force`.
 /// With `delta`, the KB written is kb::KnowledgeBase::coarsened(delta) (a
 /// smaller KB: ConfigError for a delta below the run's, DataError for a
 /// randomized KB).
 KbWritten export_kb(const std::filesystem::path& run_db, const std::string& name,
-                    const std::filesystem::path& out, bool force, std::optional<double> delta = std::nullopt);
+                    const std::filesystem::path& out, bool force, std::optional<double> delta = std::nullopt,
+                    const std::string& out_name = "");
 
 /// `kb merge`: loads the only KB of each input (or the one called
 /// `input_name` when given) and merges every later one into the first, in

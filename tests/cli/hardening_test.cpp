@@ -240,6 +240,15 @@ TEST_CASE("sum and mo with a KB whose largest average reward is 0 warn", "[cli][
         CHECK_THAT(result.err_lines()[0], StartsWith("stepstone: warning: "));
         CHECK_THAT(result.err_lines()[0], Contains("largest average reward is 0"));
     }
+    {
+        // the KB as the user named it, relative to where they are, not its absolute path
+        auto relative = test::run_cli({"evolve", "--config", "t.json", "--db", "rel.db", "--kb", "zero.db",
+                                       "--treatment", "sum", "--quiet"},
+                                      dir.path());
+        CHECK(relative.exit_code == 0);
+        REQUIRE(relative.err_lines().size() == 1);
+        CHECK_THAT(relative.err_lines()[0], StartsWith("stepstone: warning: zero.db: "));
+    }
     auto result = test::run_cli({"evolve", "--config", (dir / "t.json").string(), "--db", (dir / "s.db").string(),
                                  "--kb", (dir / "some.db").string(), "--treatment", "sum", "--quiet"});
     CHECK(result.exit_code == 0);
@@ -247,7 +256,7 @@ TEST_CASE("sum and mo with a KB whose largest average reward is 0 warn", "[cli][
 
     // kb export and kb merge say it when they write such a KB, and only then
     for (const auto& args : std::vector<std::vector<std::string>>{
-             {"kb", "export", (dir / "zero.db").string(), "--name", "zero", "--out",
+             {"kb", "export", (dir / "zero.db").string(), "--kb-name", "zero", "--out",
               (dir / "zero-out.db").string()},
              {"kb", "merge", (dir / "zero.db").string(), (dir / "zero.db").string(), "--allow-duplicates",
               "--out", (dir / "zero-merged.db").string()}}) {
@@ -258,7 +267,7 @@ TEST_CASE("sum and mo with a KB whose largest average reward is 0 warn", "[cli][
         CHECK_THAT(result.err_lines()[0],
                    StartsWith("stepstone: warning: ") && Contains("largest average reward is 0"));
     }
-    result = test::run_cli({"kb", "export", (dir / "some.db").string(), "--name", "some", "--out",
+    result = test::run_cli({"kb", "export", (dir / "some.db").string(), "--kb-name", "some", "--out",
                             (dir / "some-out.db").string()});
     CHECK(result.exit_code == 0);
     CHECK(result.err.empty());

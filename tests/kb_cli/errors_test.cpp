@@ -59,7 +59,7 @@ TEST_CASE("kb commands refuse missing, newer-schema and foreign files with one l
                 1, "absent.db: no such file");
     check_error(test::run_cli({"shape", "--kb", a, "--run", (dir / "absent.db").string()}), 1,
                 "absent.db: no such file");
-    check_error(test::run_cli({"kb", "export", a, "--name", "run", "--out", out}), 1,
+    check_error(test::run_cli({"kb", "export", a, "--kb-name", "run", "--out", out}), 1,
                 "a.db: no knowledge base named \"run\"");
     // a KB file is not a run file
     check_error(test::run_cli({"kb", "calibrate", a}), 1, "a.db");
@@ -135,7 +135,7 @@ TEST_CASE("an existing output is refused without --force and replaced with it", 
     check_error(test::run_cli({"kb", "merge", a, (dir / "b.db").string(), "--out", taken}), 2,
                 "taken.db: already exists (use --force to overwrite)");
     check_error(test::run_cli({"kb", "randomize", a, "--out", taken, "--seed", "3"}), 2, "already exists");
-    check_error(test::run_cli({"kb", "export", a, "--name", "a", "--out", taken}), 2, "already exists");
+    check_error(test::run_cli({"kb", "export", a, "--kb-name", "a", "--out", taken}), 2, "already exists");
     CHECK(test::read_file(dir / "taken.db") == "precious");
 
     auto result = test::run_cli({"kb", "randomize", a, "--out", taken, "--seed", "3", "--force"});

@@ -49,6 +49,19 @@ TEST_CASE("kb export writes the run's knowledge base unchanged under the same na
     CHECK(exported.kb.sources()[0].run == from_run.kb.sources()[0].run);
     CHECK(exported.kb.sources()[0].last_generation == 3);  // generations 0 to 3, period 1
     CHECK(exported.kb.sources()[0].policies == from_run.kb.sources()[0].policies);
+
+    // the names every kb command shares: --kb-name picks the input's KB, --name names the output
+    result = test::run_cli({"kb", "export", (dir / "run.db").string(), "--kb-name", "run", "--name", "mine", "--out",
+                            (dir / "named.db").string()});
+    REQUIRE(result.exit_code == 0);
+    auto named = db::open_database(dir / "named.db", db::OpenMode::read_only);
+    CHECK(db::list_kbs(named).at(0).name == "mine");
+    CHECK(db::load_kb(named).kb.size() == from_run.kb.size());
+    result = test::run_cli({"kb", "stats", (dir / "named.db").string(), "--kb-name", "mine", "--json"});
+    REQUIRE(result.exit_code == 0);
+    CHECK_THAT(result.out, Contains("\"mine\""));
+    result = test::run_cli({"kb", "stats", (dir / "named.db").string(), "--kb-name", "run"});
+    CHECK(result.exit_code == 1);
 }
 
 TEST_CASE("kb merge adds counts and cumulated rewards of segments within delta and keeps provenance",
