@@ -48,7 +48,13 @@ CampaignIndex open_campaign(const CampaignOptions& options, const CampaignConfig
     // roll back: open it for writing once before the read-only loads
     db::open_database(campaign_path, db::OpenMode::read_write).query_int(db::sql("campaign/count.sql"));
     auto index = load_campaign(options.dir);
-    const std::string diff = first_difference(index.config, config.to_json());
+    // campaigns made before kb.file was stored as given hold its absolute path: the same file
+    auto stored = index.config;
+    if (stored.contains("kb") && stored["kb"].contains("file") && stored["kb"]["file"].is_string() &&
+        fs::path(stored["kb"]["file"].get<std::string>()) == config.kb_file) {
+        stored["kb"]["file"] = config.kb_file_given;
+    }
+    const std::string diff = first_difference(stored, config.to_json());
     if (!diff.empty()) {
         throw ConfigError(concat(options.dir.string(), ": the config differs from the campaign's at ", diff));
     }

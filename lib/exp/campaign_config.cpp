@@ -94,6 +94,7 @@ CampaignConfig CampaignConfig::from_json(const nlohmann::json& json, const std::
                 kb.read("file", file);
                 config.kb_from = KbFrom::file;
                 config.kb_file = fs::absolute(base / file).lexically_normal();
+                config.kb_file_given = file;
             } else {
                 std::string from = "best";
                 kb.read_choice("from", from, {"best", "merge"});
@@ -145,7 +146,8 @@ CampaignConfig CampaignConfig::from_json(const nlohmann::json& json, const std::
             }
         }
         if (kb_needed && config.kb_from == KbFrom::file && !fs::exists(config.kb_file)) {
-            throw ConfigError(concat("kb.file: ", config.kb_file.string(), " does not exist"));
+            throw ConfigError(concat("kb.file: ", config.kb_file_given, " does not exist (looked for ",
+                                     config.kb_file.string(), ")"));
         }
         return config;
     } catch (const ConfigError& e) {
@@ -168,7 +170,8 @@ nlohmann::json CampaignConfig::to_json() const {
     nlohmann::json json;
     if (source) json["source"] = step_json(*source);
     if (kb_from == KbFrom::file) {
-        json["kb"] = {{"file", kb_file.string()}};
+        // as given: the config's text, not this machine's folders (docs/transfer.md)
+        json["kb"] = {{"file", kb_file_given}};
     } else {
         json["kb"] = {{"from", kb_from == KbFrom::merge ? "merge" : "best"}};
     }

@@ -39,7 +39,8 @@ enum class KbFrom {
 struct CampaignConfig {
     std::optional<RunStep> source;
     KbFrom kb_from = KbFrom::best;
-    std::filesystem::path kb_file;     ///< KbFrom::file: the KB to copy into the campaign
+    std::filesystem::path kb_file;     ///< KbFrom::file: the KB to copy into the campaign (absolute)
+    std::string kb_file_given;         ///< kb_file as the config gives it (relative to the config's folder)
     std::optional<double> kb_delta;    ///< set: the KB is coarsened to this delta (kb export --delta)
     std::uint64_t randomize_seed = 1;  ///< seed of the randomized KB (sum-rand, mo-rand)
     RunStep target;

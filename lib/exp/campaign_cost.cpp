@@ -56,7 +56,7 @@ void write_plan(std::ostream& out, const CampaignConfig& config, const CampaignC
             out << "kb       merge of every source run's KB\n";
             break;
         case KbFrom::file:
-            out << "kb       copy of " << config.kb_file.string() << "\n";
+            out << "kb       copy of " << config.kb_file_given << "\n";
             break;
     }
     if (config.kb_delta) out << "         coarsened to delta " << shortest(*config.kb_delta) << "\n";

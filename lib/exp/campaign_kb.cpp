@@ -58,7 +58,7 @@ void make_campaign_kbs(const fs::path& dir, const CampaignConfig& config, db::Co
         } else {
             export_kb(config.kb_file, "", kb_path, true);
         }
-        made_from = concat("copy of ", config.kb_file.string());
+        made_from = concat("copy of ", config.kb_file_given);
     } else {
         std::vector<const RunState*> sources;
         for (const auto& state : runs) {

@@ -445,9 +445,11 @@ EvolveSummary run_evolve(const EvolveOptions& options) {
         config.transfer->kb_digest = stored_run->config["transfer"].value("kb_digest", "");
     }
     std::optional<kb::KnowledgeBase> shaping;
+    // messages name the KB as it was given; the stored config holds its absolute path (for resumes)
+    const std::string kb_given = config.transfer ? config.transfer->kb.string() : std::string();
     if (config.transfer) shaping = load_shaping_kb(config);
     if (shaping && needs_kb(config.treatment()) && !(shaping->max_average() > 0.0)) {
-        std::cerr << "stepstone: warning: " << config.transfer->kb.string()
+        std::cerr << "stepstone: warning: " << kb_given
                   << ": the knowledge base's largest average reward is 0, so r_max is 0 for every policy and "
                   << to_string(config.treatment()) << " selects as none would\n";
     }

@@ -59,6 +59,9 @@ TEST_CASE("campaign config: the default treatments are all five in the paper's o
     CHECK(exp::to_string(config.treatments[4]) == std::string("mo-rand"));
     CHECK(config.kb_from == exp::KbFrom::file);
     CHECK(config.kb_file == dir / "kb.db");
+    // stored and shown as the config gives it, not as this machine's absolute path
+    CHECK(config.kb_file_given == "kb.db");
+    CHECK(config.to_json()["kb"]["file"] == "kb.db");
     CHECK(config.randomize_seed == 1);
     CHECK(config.needs_kb());
     CHECK(config.needs_randomized_kb());

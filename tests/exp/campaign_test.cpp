@@ -6,6 +6,7 @@
 #include <chrono>
 #include <csignal>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <thread>
 
 #include "db/database.hpp"
@@ -484,4 +485,36 @@ TEST_CASE(
     INFO(resumed.err);
     REQUIRE(resumed.exit_code == 0);
     CHECK(digests(stopped) == digests(dir / "whole"));
+}
+
+TEST_CASE("a campaign keeps kb.file as its config gives it, and resumes one that stored the absolute path",
+          "[exp][campaign][cli][kb]") {
+    test::TempDir dir;
+    const auto fixture = std::filesystem::path(STEPSTONE_SOURCE_DIR) / "examples/fixtures/demo_kb.db.gz";
+    const std::string given = std::filesystem::relative(fixture, dir.path()).string();
+    REQUIRE(given.rfind("..", 0) == 0);  // a relative path, from the config's folder
+    test::write_file(dir / "c.json", R"({"kb": {"file": ")" + given + R"("}, "target": {"config": {"task": {"kind": "target", "steps_per_start": 100, "starts": 1}, "ea": {"population_size": 8}}, "runs": 1, "generations": 1, "treatments": ["sum"]}})");
+    const auto made = campaign(dir, "camp", {});
+    INFO(made.err);
+    REQUIRE(made.exit_code == 0);
+    const auto text_of = [&](const std::string& sql) {
+        auto connection = db::open_database(dir / "camp" / "campaign.db", db::OpenMode::read_only);
+        auto row = connection.prepare(sql);
+        REQUIRE(row.step());
+        return row.column_text(0);
+    };
+    const auto stored_config = [&] { return nlohmann::json::parse(text_of("SELECT config FROM campaign")); };
+    CHECK(stored_config()["kb"]["file"] == given);
+    CHECK(text_of("SELECT made_from FROM campaign_kb WHERE name = 'kb'") == "copy of " + given);
+    // a campaign made before: its campaign.db holds the absolute path of the same file
+    {
+        auto connection = db::open_database(dir / "camp" / "campaign.db", db::OpenMode::read_write);
+        auto config = stored_config();
+        config["kb"]["file"] = std::filesystem::weakly_canonical(fixture).string();
+        auto update = connection.prepare("UPDATE campaign SET config = :config");
+        update.bind(":config", config.dump()).step();
+    }
+    const auto resumed = campaign(dir, "camp", {"--resume"});
+    INFO(resumed.err);
+    CHECK(resumed.exit_code == 0);
 }
