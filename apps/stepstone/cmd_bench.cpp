@@ -159,7 +159,7 @@ void add_bench_command(CLI::App& app) {
     cmd->callback([options] { run_bench(*options); });
 }
 
-const CommandRegistrar registrar(80, add_bench_command);
+const CommandRegistrar bench_registrar(80, add_bench_command);
 
 }  // namespace
 

@@ -92,7 +92,7 @@ void add_campaign_command(CLI::App& app) {
     });
 }
 
-const CommandRegistrar registrar(50, add_campaign_command);
+const CommandRegistrar campaign_registrar(50, add_campaign_command);
 
 }  // namespace
 

@@ -110,7 +110,7 @@ void add_db_command(CLI::App& app) {
     digest->callback([digest_file] { run_db_digest(*digest_file); });
 }
 
-const CommandRegistrar registrar(90, add_db_command);
+const CommandRegistrar db_registrar(90, add_db_command);
 
 }  // namespace
 

@@ -104,7 +104,7 @@ void add_demo_command(CLI::App& app) {
     demo->callback([flags] { run_demo(*flags); });
 }
 
-const CommandRegistrar registrar(1, add_demo_command);
+const CommandRegistrar demo_registrar(1, add_demo_command);
 
 }  // namespace
 

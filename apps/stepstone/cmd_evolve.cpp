@@ -123,7 +123,7 @@ void add_evolve_command(CLI::App& app) {
     });
 }
 
-const CommandRegistrar registrar(10, add_evolve_command);
+const CommandRegistrar evolve_registrar(10, add_evolve_command);
 
 }  // namespace
 

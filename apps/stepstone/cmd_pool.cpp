@@ -76,7 +76,7 @@ void add_pool_command(CLI::App& app) {
     });
 }
 
-const CommandRegistrar registrar(56, add_pool_command);
+const CommandRegistrar pool_registrar(56, add_pool_command);
 
 }  // namespace
 

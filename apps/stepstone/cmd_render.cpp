@@ -122,7 +122,7 @@ void add_render_command(CLI::App& app) {
     cmd->callback([flags] { run_render(*flags); });
 }
 
-const CommandRegistrar registrar(62, add_render_command);
+const CommandRegistrar render_registrar(62, add_render_command);
 
 }  // namespace
 

@@ -86,7 +86,7 @@ void add_replay_command(CLI::App& app) {
     cmd->callback([flags] { run_replay(*flags); });
 }
 
-const CommandRegistrar registrar(30, add_replay_command);
+const CommandRegistrar replay_registrar(30, add_replay_command);
 
 }  // namespace
 

@@ -50,7 +50,7 @@ void add_report_command(CLI::App& app) {
     });
 }
 
-const CommandRegistrar registrar(60, add_report_command);
+const CommandRegistrar report_registrar(60, add_report_command);
 
 }  // namespace
 

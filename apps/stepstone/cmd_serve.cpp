@@ -41,7 +41,7 @@ void add_serve_command(CLI::App& app) {
     });
 }
 
-const CommandRegistrar registrar(70, add_serve_command);
+const CommandRegistrar serve_registrar(70, add_serve_command);
 
 }  // namespace
 

@@ -40,7 +40,7 @@ void add_shape_command(CLI::App& app) {
     });
 }
 
-const CommandRegistrar registrar(45, add_shape_command);
+const CommandRegistrar shape_registrar(45, add_shape_command);
 
 }  // namespace
 

@@ -84,7 +84,7 @@ void add_simulate_command(CLI::App& app) {
     cmd->callback([options] { run_simulate(*options); });
 }
 
-const CommandRegistrar registrar(20, add_simulate_command);
+const CommandRegistrar simulate_registrar(20, add_simulate_command);
 
 }  // namespace
 

@@ -96,7 +96,7 @@ void add_stats_command(CLI::App& app) {
     });
 }
 
-const CommandRegistrar registrar(55, add_stats_command);
+const CommandRegistrar stats_registrar(55, add_stats_command);
 
 }  // namespace
 

@@ -20,6 +20,9 @@ std::string concat(Parts&&... parts) {
 /// 1.8300000000000001): for the values a user typed, in messages and reports.
 std::string shortest(double value);
 
+/// `value` with 17 significant digits ("%.17g"): reads back bit for bit, for CSV files.
+std::string exact(double value);
+
 /// Replaces newlines and carriage returns by "; " so a message stays on one line.
 std::string one_line(std::string text);
 

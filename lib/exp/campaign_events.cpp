@@ -15,12 +15,6 @@ namespace {
 constexpr std::array<Milestone, kMilestones> kAll{Milestone::press, Milestone::pickup, Milestone::release,
                                                   Milestone::ball};
 
-std::string number(double value) {
-    char buffer[32];
-    std::snprintf(buffer, sizeof buffer, "%.17g", value);
-    return buffer;
-}
-
 // a run's time for milestone m: its first generation when reached by `generation`, else
 // censored at `generation` (observed false)
 std::pair<int, bool> event_time(const RunEvents& run, Milestone m, int generation) {
@@ -165,8 +159,8 @@ void write_logrank_csv(std::ostream& out, const CampaignEvents& events) {
     out << "treatment_a,treatment_b,event,n_a,n_b,events_a,events_b,chi2,p,p_holm\n";
     for (const auto& t : events.tests) {
         out << to_string(t.a) << "," << to_string(t.b) << "," << to_string(t.milestone) << "," << t.n_a << ","
-            << t.n_b << "," << t.test.events_a << "," << t.test.events_b << "," << number(t.test.chi2) << ","
-            << number(t.test.p) << "," << number(t.p_holm) << "\n";
+            << t.n_b << "," << t.test.events_a << "," << t.test.events_b << "," << exact(t.test.chi2) << ","
+            << exact(t.test.p) << "," << exact(t.p_holm) << "\n";
     }
 }
 

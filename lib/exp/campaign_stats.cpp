@@ -73,12 +73,6 @@ RunCurve read_curve(const fs::path& dir, const PlannedRun& run, int generation, 
     return curve;
 }
 
-std::string number(double value) {
-    char buffer[32];
-    std::snprintf(buffer, sizeof buffer, "%.17g", value);
-    return buffer;
-}
-
 std::string short_number(double value) {
     char buffer[32];
     std::snprintf(buffer, sizeof buffer, "%.4g", value);
@@ -357,8 +351,8 @@ void write_run_rows(std::ostream& out, std::span<const RunRow> rows) {
     out << "treatment,seed,generation,best_reward,success,policies,ball_policies,mean_r_max\n";
     for (const auto& row : rows) {
         out << to_string(row.treatment) << "," << row.seed << "," << row.generation << ","
-            << number(row.best_reward) << "," << (row.success ? 1 : 0) << "," << row.policies << ","
-            << row.ball_policies << "," << (row.mean_r_max ? number(*row.mean_r_max) : "") << "\n";
+            << exact(row.best_reward) << "," << (row.success ? 1 : 0) << "," << row.policies << ","
+            << row.ball_policies << "," << (row.mean_r_max ? exact(*row.mean_r_max) : "") << "\n";
     }
 }
 
@@ -389,9 +383,9 @@ void write_pair_tests_csv(std::ostream& out, std::span<const PairTest> tests) {
     out << "treatment_a,treatment_b,n_a,n_b,u,p,p_holm,a12,method,p_auto,p_se\n";
     for (const auto& t : tests) {
         out << to_string(t.a) << "," << to_string(t.b) << "," << t.n_a << "," << t.n_b << ","
-            << number(t.test.u) << "," << number(t.p) << "," << number(t.p_holm) << "," << number(t.a12)
-            << "," << to_string(t.method) << "," << number(t.test.p) << ","
-            << (t.method == PairMethod::monte_carlo ? number(t.p_standard_error) : "") << "\n";
+            << exact(t.test.u) << "," << exact(t.p) << "," << exact(t.p_holm) << "," << exact(t.a12)
+            << "," << to_string(t.method) << "," << exact(t.test.p) << ","
+            << (t.method == PairMethod::monte_carlo ? exact(t.p_standard_error) : "") << "\n";
     }
 }
 

@@ -21,12 +21,6 @@ namespace stepstone::exp {
 
 namespace fs = std::filesystem;
 
-namespace {
-
-std::string file_name(const fs::path& path) { return path.string(); }
-
-}  // namespace
-
 std::vector<double> parse_deltas(const std::string& text, const std::string& what) {
     std::vector<double> deltas;
     std::size_t start = 0;
@@ -99,13 +93,13 @@ RunCalibration calibrate_run(const fs::path& run_db, const CalibrateOptions& opt
     const auto channels = static_cast<std::size_t>(sim::kChannels);
     if (width > best.size() / channels) {
         throw ConfigError(concat(options.width_name, ' ', width, " exceeds the ", best.size() / channels,
-                                 " steps of the behaviours of ", file_name(run_db)));
+                                 " steps of the behaviours of ", run_db.string()));
     }
     out.calibration = calibrate_behaviours(best, {}, channels, width, {}, options.neighbours);
     if (options.deltas.empty()) return out;
 
     // the size table: one KB per delta, fed batch by batch in id order
-    EvolveConfig config = EvolveConfig::from_json(run.config, file_name(run_db) + " (stored config)");
+    EvolveConfig config = EvolveConfig::from_json(run.config, run_db.string() + " (stored config)");
     config.task.starts = 1;  // the behaviour is the first start's, which later starts do not change
     const auto task = sim::make_task(config.task);
     std::vector<kb::KnowledgeBase> kbs;

@@ -18,7 +18,6 @@ namespace stepstone::report {
 
 namespace {
 
-constexpr Colour kText = Colour::hex(0x222222);
 constexpr Colour kOutline = Colour::hex(0x8C8C8C);
 constexpr double kBallRadius = 7.0;  // units, drawn only
 

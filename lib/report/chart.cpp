@@ -17,7 +17,6 @@ namespace {
 constexpr double kTitleSize = 17.0;
 constexpr double kLabelSize = 14.0;
 constexpr double kTickSize = 12.0;
-constexpr Colour kText = Colour::hex(0x222222);
 constexpr Colour kGrid = Colour::hex(0xE3E3E3);
 constexpr Colour kAxis = Colour::hex(0x555555);
 

@@ -26,6 +26,8 @@ inline constexpr Colour kYellow = Colour::hex(0xF0E442);
 inline constexpr Colour kBlack = Colour::hex(0x000000);
 inline constexpr Colour kGrey = Colour::hex(0x7F7F7F);
 inline constexpr Colour kWhite = Colour::hex(0xFFFFFF);
+/// Labels, titles and legends.
+inline constexpr Colour kText = Colour::hex(0x222222);
 
 /// Series colour `index` (cycles through the palette).
 Colour series_colour(int index);

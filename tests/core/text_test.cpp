@@ -31,3 +31,11 @@ TEST_CASE("one_line turns line breaks into separators", "[core][text]") {
     CHECK(one_line("a\nb\r\nc\n") == "a; b; c");
     CHECK(one_line("plain") == "plain");
 }
+
+TEST_CASE("exact prints 17 significant digits, which read back bit for bit", "[core][text]") {
+    // %.17g by hand: 1.83 is stored as 1.8300000000000000710542735760100185871124267578125
+    CHECK(exact(1.83) == "1.8300000000000001");
+    CHECK(exact(0.5) == "0.5");
+    CHECK(exact(1e-300) == "1e-300");
+    for (const double v : {0.1, 2.0 / 3.0, 1e300, -123.456}) CHECK(std::stod(exact(v)) == v);
+}
