@@ -193,16 +193,62 @@ void Chart::reference(double y, const std::string& label) {
     canvas_.text(right_ - 4.0, py(y) - 3.0, label, kTickSize, kGrey, 1.0, 1.0);
 }
 
+namespace {
+
+constexpr double kLegendRow = 19.0;
+
+}  // namespace
+
+std::array<double, 4> Chart::legend_box(std::span<const std::pair<std::string, Colour>> entries, bool right,
+                                        bool bottom) const {
+    double width = 0.0;
+    for (const auto& [name, colour] : entries) width = std::max(width, canvas_.text_width(name, kTickSize));
+    const double box_w = width + 44.0;
+    const double box_h = kLegendRow * static_cast<double>(entries.size()) + 10.0;
+    const double x = right ? right_ - box_w - 10.0 : left_ + 10.0;
+    const double y = bottom ? bottom_ - box_h - 10.0 : top_ + 10.0;
+    return {x, y, box_w, box_h};
+}
+
+void Chart::legend_off(std::span<const std::pair<std::string, Colour>> entries, std::span<const Curve> curves) {
+    if (entries.empty()) return;
+    // (right, bottom) in the order ties are broken
+    constexpr std::array<std::pair<bool, bool>, 4> corners = {{{false, false}, {true, false}, {true, true}, {false, true}}};
+    std::size_t best = 0, fewest = std::numeric_limits<std::size_t>::max();
+    for (std::size_t k = 0; k < corners.size(); ++k) {
+        const auto [x, y, w, h] = legend_box(entries, corners[k].first, corners[k].second);
+        std::size_t covered = 0;
+        const auto count = [&](double dx, double dy) {
+            const double u = px(dx), v = py(dy);
+            covered += (u >= x && u <= x + w && v >= y && v <= y + h) ? 1 : 0;
+        };
+        for (const auto& c : curves) {
+            for (const auto* ys : {&c.y, &c.low, &c.high}) {
+                if (ys->size() != c.x.size()) continue;
+                for (std::size_t i = 0; i < c.x.size(); ++i) {
+                    count(c.x[i], (*ys)[i]);
+                    // points along the segment to the next point, so a sparse line counts where it passes
+                    if (i + 1 < c.x.size()) {
+                        for (double t : {0.25, 0.5, 0.75}) {
+                            count(c.x[i] + t * (c.x[i + 1] - c.x[i]), (*ys)[i] + t * ((*ys)[i + 1] - (*ys)[i]));
+                        }
+                    }
+                }
+            }
+        }
+        if (covered < fewest) {
+            fewest = covered;
+            best = k;
+        }
+    }
+    legend(entries, corners[best].first, corners[best].second);
+}
+
 void Chart::legend(std::span<const std::pair<std::string, Colour>> entries, bool right, bool bottom) {
     if (entries.empty()) return;
     cairo_t* cr = canvas_.cr();
-    double width = 0.0;
-    for (const auto& [name, colour] : entries) width = std::max(width, canvas_.text_width(name, kTickSize));
-    const double row = 19.0;
-    const double box_w = width + 44.0;
-    const double box_h = row * static_cast<double>(entries.size()) + 10.0;
-    const double x = right ? right_ - box_w - 10.0 : left_ + 10.0;
-    const double y = bottom ? bottom_ - box_h - 10.0 : top_ + 10.0;
+    const double row = kLegendRow;
+    const auto [x, y, box_w, box_h] = legend_box(entries, right, bottom);
     cairo_rectangle(cr, x, y, box_w, box_h);
     canvas_.set_colour(kWhite, 0.88);
     cairo_fill_preserve(cr);
@@ -229,12 +275,25 @@ void line_chart(Canvas& canvas, const ChartFrame& frame, std::span<const Curve> 
     if (xs.empty()) xs = {0.0, 1.0};
     if (ys.empty()) ys = {0.0, 1.0};
     Chart chart(canvas, frame, xs.low, xs.high, std::min(ys.low, 0.0), ys.high);
-    std::vector<std::pair<std::string, Colour>> legend;
-    for (const auto& c : curves) {
-        chart.curve(c);
-        if (!c.name.empty()) legend.emplace_back(c.name, c.colour);
+    for (const auto& c : curves) chart.curve(c);
+    chart.legend_off(legend_entries(curves), curves);
+}
+
+std::vector<std::pair<std::string, Colour>> legend_entries(std::span<const Curve> curves) {
+    std::vector<std::pair<std::string, Colour>> entries;
+    for (std::size_t i = 0; i < curves.size(); ++i) {
+        const Curve& c = curves[i];
+        if (c.name.empty()) continue;
+        std::string name = c.name;
+        for (std::size_t j = 0; j < i; ++j) {
+            if (!c.x.empty() && curves[j].x == c.x && curves[j].y == c.y && !curves[j].name.empty()) {
+                name += " (same line as " + curves[j].name + ")";
+                break;
+            }
+        }
+        entries.emplace_back(std::move(name), c.colour);
     }
-    chart.legend(legend);
+    return entries;
 }
 
 void histogram_chart(Canvas& canvas, const ChartFrame& frame, std::span<const double> edges,

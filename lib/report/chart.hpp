@@ -68,6 +68,13 @@ public:
     /// area, or at its bottom with `bottom`.
     void legend(std::span<const std::pair<std::string, Colour>> entries, bool right = false,
                 bool bottom = false);
+    /// The legend's box of `entries` in the corner of the plotting area that
+    /// covers the fewest points of `curves` (their lines and bands, sampled);
+    /// ties keep the top left, then top right, bottom right, bottom left.
+    void legend_off(std::span<const std::pair<std::string, Colour>> entries, std::span<const Curve> curves);
+    /// The legend's box of `entries` in one corner: x, y, width, height in pixels.
+    std::array<double, 4> legend_box(std::span<const std::pair<std::string, Colour>> entries, bool right,
+                                     bool bottom) const;
     /// Clips drawing to the plotting area until release_clip().
     void clip();
     void release_clip();
@@ -79,7 +86,12 @@ private:
     double left_, right_, top_, bottom_;
 };
 
-/// A line chart of `curves` (legend from their names), on a new canvas.
+/// The legend entries of `curves`: each named curve's name and colour; a curve
+/// drawn exactly over an earlier one (same points) says so, "mo (same line as
+/// sum)", since only the later colour can be seen.
+std::vector<std::pair<std::string, Colour>> legend_entries(std::span<const Curve> curves);
+
+/// A line chart of `curves` (legend from their names, off the curves), on a new canvas.
 void line_chart(Canvas& canvas, const ChartFrame& frame, std::span<const Curve> curves);
 
 /// A histogram: bars over [edges[i], edges[i + 1]) of height counts[i].

@@ -193,8 +193,8 @@ void treatment_series(Canvas& canvas, std::span<const exp::Treatment> treatments
 void draw_treatment_shaping(Canvas& canvas, std::span<const exp::Treatment> treatments,
                             std::span<const std::vector<std::vector<GenerationPoint>>> series) {
     treatment_series(canvas, treatments, series,
-                     {"Shaping signal: mean r_max of each generation's policies, median over seeds", "generation",
-                      "mean r_max (KB average reward)", {}, {}},
+                     {"Shaping signal: mean r_max / A of each generation's policies, median over seeds",
+                      "generation", "mean r_max / A (A: the KB's largest average)", {}, {}},
                      [](const GenerationPoint& g) { return g.mean_shaping; });
 }
 

@@ -146,8 +146,9 @@ auto per_treatment(const std::vector<RunRow>& runs, const fs::path& dir,
     return series;
 }
 
+// `largest`: the largest average reward of each of the campaign's KBs ("kb", "kb-rand")
 void add_statistics(Page& page, const exp::CampaignStats& stats, const std::vector<RunRow>& runs,
-                    const fs::path& dir) {
+                    const fs::path& dir, const std::map<std::string, double>& largest) {
     page.heading("Treatments compared");
     page.paragraph(concat("Target runs at generation ", stats.generation, "; a run succeeds when its best-of-run task "
                           "reward reaches ", fixed(stats.threshold, 3), ". The paper reports, at generation 3000 "
@@ -216,11 +217,29 @@ void add_statistics(Page& page, const exp::CampaignStats& stats, const std::vect
         });
     });
     if (shaped) {
+        // as sum adds it: r_max over the largest average A of the KB the treatment reads, so that a real KB
+        // (A ~ 0.15) and its randomized twin (A ~ 1) share one axis
+        auto normalised = series;
+        std::string divisors;
+        for (std::size_t t = 0; t < treatments.size() && t < normalised.size(); ++t) {
+            if (!exp::needs_kb(treatments[t])) continue;
+            const auto kb = largest.find(exp::needs_randomized_kb(treatments[t]) ? "kb-rand" : "kb");
+            const double a = kb == largest.end() ? 0.0 : kb->second;
+            for (auto& run : normalised[t]) {
+                for (auto& g : run) {
+                    if (g.mean_shaping) g.mean_shaping = a > 0.0 ? std::optional(*g.mean_shaping / a) : std::nullopt;
+                }
+            }
+        }
+        for (const auto& [name, a] : largest) divisors += concat(divisors.empty() ? "" : ", ", name, " ", fixed(a, 3));
         page.figure("treatment-shaping", kFigureWidth, kFigureHeight,
-                    "The shaping signal: mean r_max of the policies evaluated in each generation, median over seeds "
-                    "with the quartile band. The -rand treatments read the randomized KB, whose averages are "
-                    "U[0, 1) draws, so their r_max sits near its top by construction.",
-                    [&](Canvas& c) { draw_treatment_shaping(c, treatments, series); });
+                    concat("The shaping signal as sum adds it: mean r_max / A of the policies evaluated in each "
+                           "generation, median over seeds with the quartile band, where A is the largest average "
+                           "reward of the KB the treatment reads (",
+                           divisors,
+                           "). The -rand treatments read the randomized KB, whose averages are U[0, 1) draws. "
+                           "A treatment drawn exactly over another is named so in the legend."),
+                    [&](Canvas& c) { draw_treatment_shaping(c, treatments, normalised); });
     }
 }
 
@@ -297,18 +316,21 @@ void campaign_report(const ReportOptions& options, const fs::path& dir, ReportSu
     page.paragraph(concat("Campaign directory <code>", xml_escape(campaign_dir.string()), "</code>: ", runs.size(),
                           " runs, ", finished, " finished."));
 
-    const auto stats = load_stats(options, runs, summary.notes);
-    for (const auto& note : summary.notes) page.paragraph(concat("<span class=\"note\">Note: ", xml_escape(note), ".</span>"));
-    if (stats) add_statistics(page, *stats, runs, campaign_dir);
-    progress.update(1);
-
-    // the knowledge bases and the policies they colour
+    // the knowledge bases, for the shaping figure and the policies they colour
     std::map<std::string, db::StoredKb> loaded;
+    std::map<std::string, double> largest;
     for (const auto& k : kbs) {
         if (!fs::exists(campaign_dir / k.file)) continue;
         auto kb_connection = db::open_database(campaign_dir / k.file, db::OpenMode::read_only);
-        loaded.emplace(k.name, db::load_kb(kb_connection));
+        const auto& stored = loaded.emplace(k.name, db::load_kb(kb_connection)).first->second;
+        largest.emplace(k.name, stored.kb.max_average());
     }
+
+    const auto stats = load_stats(options, runs, summary.notes);
+    for (const auto& note : summary.notes) page.paragraph(concat("<span class=\"note\">Note: ", xml_escape(note), ".</span>"));
+    if (stats) add_statistics(page, *stats, runs, campaign_dir, largest);
+    progress.update(1);
+
     const auto kb_it = loaded.find("kb");
     const db::StoredKb* kb = kb_it == loaded.end() ? nullptr : &kb_it->second;
     if (kb != nullptr) {

@@ -151,3 +151,45 @@ TEST_CASE("a histogram's bars are as tall as the counts say") {
     REQUIRE(last > 10);
     CHECK(std::abs(first - 2 * last) <= 2);
 }
+
+TEST_CASE("a line chart's legend goes to the corner its curves leave free") {
+    // three curves high (0.9) from the left to x = 9, then down to 0 at x = 10: the top corners are
+    // taken, the bottom ones free; the legend used to sit at the top left, over the curves
+    std::vector<Curve> curves;
+    const Colour colours[] = {kBlue, kVermillion, kGreen};
+    for (int k = 0; k < 3; ++k) {
+        Curve c{"curve " + std::to_string(k), colours[k], {}, {}, {}, {}, false, false};
+        for (int x = 0; x <= 10; ++x) {
+            c.x.push_back(x);
+            c.y.push_back(x < 10 ? 0.9 - 0.05 * k : 0.0);
+        }
+        curves.push_back(std::move(c));
+    }
+    const ChartFrame frame{"legend", "x", "y", {}, {}};
+    Canvas canvas(kFigureWidth, kFigureHeight, Format::png);
+    line_chart(canvas, frame, curves);
+    const auto image = reporttest::decode_png(canvas.finish());
+    // where the first curve is drawn at x = 1 and x = 9, by the same axes as line_chart's
+    Canvas probe_canvas(kFigureWidth, kFigureHeight, Format::png);
+    const Chart probe(probe_canvas, frame, 0.0, 10.0, 0.0, 0.9);
+    const reporttest::Rgb blue{0x00, 0x72, 0xB2};
+    for (const double x : {1.0, 9.0}) {
+        const int px = static_cast<int>(probe.px(x)), py = static_cast<int>(probe.py(0.9));
+        bool pure = false;  // the line's own colour, not washed out by the legend's white box
+        for (int dy = -2; dy <= 2; ++dy) pure = pure || image.at(px, py + dy) == blue;
+        CAPTURE(x, px, py);
+        CHECK(pure);
+    }
+}
+
+TEST_CASE("a curve drawn exactly over another says so in the legend") {
+    Curve sum{"sum", kBlue, {0, 1, 2}, {0, 0, 0}, {}, {}, false, false};
+    Curve mo{"mo", kVermillion, {0, 1, 2}, {0, 0, 0}, {}, {}, false, false};
+    Curve other{"none", kGreen, {0, 1, 2}, {0, 0.5, 0}, {}, {}, false, false};
+    const std::vector<Curve> curves = {sum, mo, other};
+    const auto entries = legend_entries(curves);
+    REQUIRE(entries.size() == 3);
+    CHECK(entries[0].first == "sum");
+    CHECK(entries[1].first == "mo (same line as sum)");
+    CHECK(entries[2].first == "none");
+}

@@ -2,11 +2,13 @@
 // that it refers only to its own files, and that failures leave nothing.
 
 #include <catch2/catch.hpp>
+#include <cstdio>
 #include <filesystem>
 #include <set>
 
 #include "core/text.hpp"
 #include "db/database.hpp"
+#include "db/kb_store.hpp"
 #include "exp/run_store.hpp"
 #include "images.hpp"
 #include "runs.hpp"
@@ -107,6 +109,15 @@ TEST_CASE("a campaign's report compares the treatments and shows the KB and the 
     CHECK(html.find("Log-rank tests of the time to each milestone") != std::string::npos);
     CHECK(html.find("Kaplan-Meier median generation") != std::string::npos);
     CHECK(reporttest::check_png(test::read_file(dir / "rep" / "kaplan-meier.png"), 1000, 980).empty());
+    // the shaping signal as sum adds it: r_max over each KB's largest average, read here from the KB files
+    const auto largest = [&](const char* file) {
+        auto connection = db::open_database(dir / "camp" / file, db::OpenMode::read_only);
+        char text[32];
+        std::snprintf(text, sizeof text, "%.3f", db::load_kb(connection).kb.max_average());
+        return std::string(text);
+    };
+    CHECK(html.find("mean r_max / A") != std::string::npos);
+    CHECK(html.find(concat("(kb ", largest("kb/kb.db"), ", kb-rand ", largest("kb/kb-rand.db"), ")")) != std::string::npos);
 
     // the best target run's reward decides the heading: a best reward of 0 is no best policy
     const auto best_target = [&](double reward) {
