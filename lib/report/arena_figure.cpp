@@ -70,7 +70,33 @@ void draw_start_pose(Canvas& canvas, const sim::Pose& pose, int number, const Ar
     canvas.text(x, y, std::to_string(number), 13.0, kBlack, 0.5, 0.5, true);
 }
 
-void draw_legend(Canvas& canvas, const ArenaLayout& layout, double y) {
+// what the legend explains beyond the fixed items
+struct ArenaState {
+    bool door_open = false;
+    bool taken = false;  // a ball on the floor at the start is gone by the last step drawn
+    bool spawn = false;  // an unlit ball position: the target task's spawn point
+};
+
+// a ball taken by the robot: a grey outline where it lay
+void taken_ball(cairo_t* cr, Canvas& canvas, double x, double y, const ArenaLayout& layout) {
+    disc(cr, x, y, kBallRadius * layout.scale);
+    canvas.set_colour(kGrey);
+    cairo_set_line_width(cr, 1.2);
+    cairo_stroke(cr);
+}
+
+// where the target task lights a ball at each press: a dashed outline in the ball's colour
+void spawn_point(cairo_t* cr, Canvas& canvas, double x, double y, const ArenaLayout& layout) {
+    disc(cr, x, y, kBallRadius * layout.scale);
+    canvas.set_colour(kBall);
+    cairo_set_line_width(cr, 1.5);
+    dashed(cr, true);
+    cairo_stroke(cr);
+    dashed(cr, false);
+}
+
+// the legend row; `state` says which of the arena's items the figure shows
+void draw_legend(Canvas& canvas, const ArenaLayout& layout, double y, const ArenaState& state) {
     cairo_t* cr = canvas.cr();
     double x = layout.left;
     x = legend_item(canvas, x, y, "wall", [&](double cx, double cy) {
@@ -78,16 +104,28 @@ void draw_legend(Canvas& canvas, const ArenaLayout& layout, double y) {
         canvas.set_colour(kWall);
         cairo_fill(cr);
     });
-    x = legend_item(canvas, x, y, "door", [&](double cx, double cy) {
+    x = legend_item(canvas, x, y, state.door_open ? "open door" : "door", [&](double cx, double cy) {
         cairo_rectangle(cr, cx - 7.0, cy - 4.0, 14.0, 8.0);
         canvas.set_colour(kDoor);
-        cairo_fill(cr);
+        if (!state.door_open) return cairo_fill(cr);
+        cairo_set_line_width(cr, 1.2);
+        dashed(cr, true);
+        cairo_stroke(cr);
+        dashed(cr, false);
     });
     x = legend_item(canvas, x, y, "ball", [&](double cx, double cy) {
         disc(cr, cx, cy, kBallRadius * layout.scale);
         canvas.set_colour(kBall);
         cairo_fill(cr);
     });
+    if (state.taken) {
+        x = legend_item(canvas, x, y, "ball taken", [&](double cx, double cy) { taken_ball(cr, canvas, cx, cy, layout); });
+    }
+    if (state.spawn) {
+        x = legend_item(canvas, x, y, "spawn point", [&](double cx, double cy) {
+            spawn_point(cr, canvas, cx, cy, layout);
+        });
+    }
     x = legend_item(canvas, x, y, "switch", [&](double cx, double cy) {
         cairo_rectangle(cr, cx - 6.0, cy - 6.0, 12.0, 12.0);
         canvas.set_colour(kSwitch);
@@ -98,7 +136,7 @@ void draw_legend(Canvas& canvas, const ArenaLayout& layout, double y) {
         canvas.set_colour(kBasket, 0.35);
         cairo_fill(cr);
     });
-    legend_item(canvas, x, y, "start poses 1-3", [&](double cx, double cy) {
+    legend_item(canvas, x, y, "starts 1-3", [&](double cx, double cy) {
         disc(cr, cx, cy, 7.0);
         canvas.set_colour(kBlack);
         cairo_set_line_width(cr, 1.2);
@@ -160,6 +198,13 @@ private:
 
 void draw_arena(Canvas& canvas, const sim::Task& task, bool door_open, const std::string& title,
                 const ArenaLayout& layout) {
+    draw_arena(canvas, task, door_open, task.initial_lit(), title, layout);
+}
+
+void draw_arena(Canvas& canvas, const sim::Task& task, bool door_open, std::uint32_t lit, const std::string& title,
+                const ArenaLayout& layout) {
+    ArenaState state;
+    state.door_open = door_open;
     cairo_t* cr = canvas.cr();
     canvas.fill(kWhite);
     if (!title.empty()) canvas.text(canvas.width() / 2.0, 14.0, title, 17.0, kText, 0.5, 0.0, true);
@@ -197,18 +242,21 @@ void draw_arena(Canvas& canvas, const sim::Task& task, bool door_open, const std
     for (std::size_t i = 0; i < lights.size(); ++i) {
         const auto& light = lights[i];
         const double x = layout.px(light.x), y = layout.py(light.y);
-        const bool lit = (task.initial_lit() >> i) & 1u;
+        const bool at_start = (task.initial_lit() >> i) & 1u;
+        const bool now = (lit >> i) & 1u;
         if (light.kind == sim::LightKind::ball) {
-            disc(cr, x, y, kBallRadius * layout.scale);
-            canvas.set_colour(kBall);
-            if (lit) {
+            if (now) {
+                disc(cr, x, y, kBallRadius * layout.scale);
+                canvas.set_colour(kBall);
                 cairo_fill(cr);
+            } else if (at_start) {
+                // on the floor at the start, taken by the last step drawn
+                taken_ball(cr, canvas, x, y, layout);
+                state.taken = true;
             } else {
                 // the target task's spawn point: a ball appears here at each switch press
-                cairo_set_line_width(cr, 1.5);
-                dashed(cr, true);
-                cairo_stroke(cr);
-                dashed(cr, false);
+                spawn_point(cr, canvas, x, y, layout);
+                state.spawn = true;
             }
         } else if (light.kind == sim::LightKind::switch_light) {
             cairo_rectangle(cr, x - 7.0, y - 7.0, 14.0, 14.0);
@@ -217,7 +265,7 @@ void draw_arena(Canvas& canvas, const sim::Task& task, bool door_open, const std
         }
     }
     for (int s = 0; s < 3; ++s) draw_start_pose(canvas, task.start_pose(s), s + 1, layout);
-    draw_legend(canvas, layout, layout.py(445.0) + 14.0);
+    draw_legend(canvas, layout, layout.py(445.0) + 14.0, state);
 }
 
 Colour circle_colour(const std::optional<kb::SegmentMatch>& match, double max_average) {
@@ -235,8 +283,10 @@ void draw_trajectory(Canvas& canvas, const Trace& trace, const TrajectoryOptions
         title = concat("Individual ", trace.individual_id, " (generation ", trace.generation, "), start ",
                        trace.start + 1, ", steps ", first, "-", last, ": reward ", fixed(trace.reward, 3));
     }
-    const bool door_open = last > first && trace.steps[static_cast<std::size_t>(last - 1)].door_open;
-    draw_arena(canvas, *trace.task, door_open, title, layout);
+    // the arena as the last step drawn left it: the door, and which balls are still on the floor
+    const TraceStep* end = last > first ? &trace.steps[static_cast<std::size_t>(last - 1)] : nullptr;
+    draw_arena(canvas, *trace.task, end != nullptr && end->door_open, end ? end->lit : trace.task->initial_lit(),
+               title, layout);
     cairo_t* cr = canvas.cr();
 
     const double r = options.circle_radius * layout.scale;

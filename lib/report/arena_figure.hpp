@@ -1,5 +1,6 @@
 #pragma once
 
+#include <cstdint>
 #include <string>
 
 #include "report/canvas.hpp"
@@ -35,6 +36,11 @@ struct TrajectoryOptions {
 /// legend. The floor is kFloor and walls kWall, so pixels can be checked
 /// against the geometry.
 void draw_arena(Canvas& canvas, const sim::Task& task, bool door_open, const std::string& title,
+                const ArenaLayout& layout = {});
+/// The same with the lights lit given (bit i: Task::lights()[i]): a ball lit
+/// at the start but not in `lit` is drawn taken (a grey outline), and the
+/// legend names what is drawn (an open door, a taken ball, the spawn point).
+void draw_arena(Canvas& canvas, const sim::Task& task, bool door_open, std::uint32_t lit, const std::string& title,
                 const ArenaLayout& layout = {});
 
 /// The paper's Fig. 4 / 8: the arena and the trace's poses as small circles in

@@ -21,6 +21,7 @@ struct TraceStep {
     double x = 0.0, y = 0.0, heading = 0.0;  ///< pose at which the step's inputs were sensed
     bool carrying = false;  ///< after the step's action
     bool door_open = false; ///< after the step's action
+    std::uint32_t lit = 0;  ///< lights lit after the step's action (bit i: Task::lights()[i])
 };
 
 /// A stored policy replayed on one start, with its segments' KB matches.

@@ -68,6 +68,7 @@ struct StepView {
     bool carrying = false;           ///< after this step's action
     int balls = 0;                   ///< balls scored so far, all starts
     bool door_open = false;          ///< after this step's action (a switch press opens it)
+    std::uint32_t lit = 0;           ///< lights lit after this step's action (bit i: Task::lights()[i])
 };
 
 /// An observer that ignores every step.
@@ -171,7 +172,7 @@ EpisodeResult run_episode(const Task& task, Controller& controller, const Record
             controller.step(inputs.data(), outputs.data());
             episode.act(outputs.data());
             observer(StepView{start, step, pose, inputs.data(), outputs.data(), episode.carrying(), episode.balls(),
-                              episode.door_open()});
+                              episode.door_open(), episode.lit()});
             if (episode.stopped()) break;
         }
     }

@@ -7,6 +7,7 @@
 
 #include "images.hpp"
 #include "report/arena_figure.hpp"
+#include "report/trace.hpp"
 #include "sim/units.hpp"
 
 using namespace stepstone;
@@ -92,4 +93,35 @@ TEST_CASE("an open door is drawn as an outline: its inside is floor") {
     const int px = static_cast<int>(layout.px(x)), py = static_cast<int>(layout.py(y));
     CHECK(open.at(px, py) == rgb(kFloor));
     CHECK(closed.at(px, py) == rgb(kDoor));
+}
+
+TEST_CASE("a trajectory draws the balls as its last step left them: a taken ball is an outline") {
+    sim::TaskConfig config;  // the source task: every ball on the floor at the start
+    auto task = std::shared_ptr<const sim::Task>(sim::make_task(config));
+    const auto lights = task->lights();
+    std::size_t ball = lights.size();
+    for (std::size_t i = 0; i < lights.size() && ball == lights.size(); ++i) {
+        if (lights[i].kind == sim::LightKind::ball && ((task->initial_lit() >> i) & 1u)) ball = i;
+    }
+    REQUIRE(ball < lights.size());
+    // one step far from the ball, after which that ball is no longer lit (taken)
+    Trace trace;
+    trace.task = task;
+    const auto pose = task->start_pose(0);
+    trace.steps.push_back({0, pose.x, pose.y, pose.heading, true, false, task->initial_lit() & ~(1u << ball)});
+    const ArenaLayout layout;
+    Canvas canvas(layout.width, layout.height, Format::png);
+    draw_trajectory(canvas, trace, {}, layout);
+    const auto image = reporttest::decode_png(canvas.finish());
+    const int px = static_cast<int>(layout.px(lights[ball].x)), py = static_cast<int>(layout.py(lights[ball].y));
+    CHECK(image.at(px, py) != rgb(kBall));  // its inside is floor: the ball is gone
+    CHECK(image.at(px, py) == rgb(kFloor));
+    // a ball still lit is drawn filled
+    std::size_t other = lights.size();
+    for (std::size_t i = 0; i < lights.size(); ++i) {
+        if (i != ball && lights[i].kind == sim::LightKind::ball && ((task->initial_lit() >> i) & 1u)) other = i;
+    }
+    REQUIRE(other < lights.size());
+    CHECK(image.at(static_cast<int>(layout.px(lights[other].x)), static_cast<int>(layout.py(lights[other].y))) ==
+          rgb(kBall));
 }
