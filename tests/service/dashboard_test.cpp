@@ -56,6 +56,16 @@ TEST_CASE("the dashboard shows a campaign's runs and follows a run as it grows")
     CHECK(curve_points(first, 2) == 3);
     CHECK(first.find("target/sum-rand/seed-2.db") != std::string::npos);
     CHECK(first.find("data-kb=\"kb\"") != std::string::npos);
+    // every chart says what its axes measure: the reward curves (two charts) and each KB's histogram
+    const auto count = [&](const std::string& what) {
+        std::size_t n = 0;
+        for (auto at = first.find(what); at != std::string::npos; at = first.find(what, at + 1)) ++n;
+        return n;
+    };
+    CHECK(count(">best task reward so far (balls / 24)</text>") == 2);
+    CHECK(count(">generation</text>") == 2);
+    CHECK(count(">average reward of the segment</text>") == count("data-kb=\""));
+    CHECK(count(">segments</text>") == count("data-kb=\""));
     // one thick median curve per treatment
     for (const auto* treatment : {"none", "sum", "sum-rand"}) {
         CHECK(first.find(std::string("data-treatment=\"") + treatment + "\"") != std::string::npos);
