@@ -46,7 +46,8 @@ void add_export(CLI::App& kb_cmd) {
     auto* cmd = kb_cmd.add_subcommand("export", "Write a run's knowledge base as a standalone KB file");
     cmd->add_option("run", flags->run, "Run database (opened read-only)")->required();
     cmd->add_option("--out", flags->out, "New KB file (written atomically)")->required();
-    cmd->add_option("--kb-name", flags->input_name, "Which KB of the run file (default: " + flags->input_name + ")");
+    cmd->add_option("--kb-name", flags->input_name,
+                    "Which KB of the run file (default: " + flags->input_name + ")");
     cmd->add_option("--name", flags->name, "Name of the KB written (default: the input's name)");
     cmd->add_option("--delta", flags->delta,
                     "Coarsen: re-observe the KB's segments under this larger delta (a smaller KB)");
@@ -54,8 +55,8 @@ void add_export(CLI::App& kb_cmd) {
     cmd->footer(example({"stepstone kb export run.db --out kb.db",
                          "stepstone kb export run.db --out kb-coarse.db --delta 4"}));
     cmd->callback([flags] {
-        print_written(flags->out,
-                      exp::export_kb(flags->run, flags->input_name, flags->out, flags->force, flags->delta, flags->name));
+        print_written(flags->out, exp::export_kb(flags->run, flags->input_name, flags->out, flags->force,
+                                                 flags->delta, flags->name));
     });
 }
 

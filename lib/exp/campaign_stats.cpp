@@ -383,8 +383,8 @@ void write_pair_tests_csv(std::ostream& out, std::span<const PairTest> tests) {
     out << "treatment_a,treatment_b,n_a,n_b,u,p,p_holm,a12,method,p_auto,p_se\n";
     for (const auto& t : tests) {
         out << to_string(t.a) << "," << to_string(t.b) << "," << t.n_a << "," << t.n_b << ","
-            << exact(t.test.u) << "," << exact(t.p) << "," << exact(t.p_holm) << "," << exact(t.a12)
-            << "," << to_string(t.method) << "," << exact(t.test.p) << ","
+            << exact(t.test.u) << "," << exact(t.p) << "," << exact(t.p_holm) << "," << exact(t.a12) << ","
+            << to_string(t.method) << "," << exact(t.test.p) << ","
             << (t.method == PairMethod::monte_carlo ? exact(t.p_standard_error) : "") << "\n";
     }
 }

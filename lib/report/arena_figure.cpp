@@ -119,12 +119,12 @@ void draw_legend(Canvas& canvas, const ArenaLayout& layout, double y, const Aren
         cairo_fill(cr);
     });
     if (state.taken) {
-        x = legend_item(canvas, x, y, "ball taken", [&](double cx, double cy) { taken_ball(cr, canvas, cx, cy, layout); });
+        x = legend_item(canvas, x, y, "ball taken",
+                        [&](double cx, double cy) { taken_ball(cr, canvas, cx, cy, layout); });
     }
     if (state.spawn) {
-        x = legend_item(canvas, x, y, "spawn point", [&](double cx, double cy) {
-            spawn_point(cr, canvas, cx, cy, layout);
-        });
+        x = legend_item(canvas, x, y, "spawn point",
+                        [&](double cx, double cy) { spawn_point(cr, canvas, cx, cy, layout); });
     }
     x = legend_item(canvas, x, y, "switch", [&](double cx, double cy) {
         cairo_rectangle(cr, cx - 6.0, cy - 6.0, 12.0, 12.0);
@@ -201,8 +201,8 @@ void draw_arena(Canvas& canvas, const sim::Task& task, bool door_open, const std
     draw_arena(canvas, task, door_open, task.initial_lit(), title, layout);
 }
 
-void draw_arena(Canvas& canvas, const sim::Task& task, bool door_open, std::uint32_t lit, const std::string& title,
-                const ArenaLayout& layout) {
+void draw_arena(Canvas& canvas, const sim::Task& task, bool door_open, std::uint32_t lit,
+                const std::string& title, const ArenaLayout& layout) {
     ArenaState state;
     state.door_open = door_open;
     cairo_t* cr = canvas.cr();
@@ -285,8 +285,8 @@ void draw_trajectory(Canvas& canvas, const Trace& trace, const TrajectoryOptions
     }
     // the arena as the last step drawn left it: the door, and which balls are still on the floor
     const TraceStep* end = last > first ? &trace.steps[static_cast<std::size_t>(last - 1)] : nullptr;
-    draw_arena(canvas, *trace.task, end != nullptr && end->door_open, end ? end->lit : trace.task->initial_lit(),
-               title, layout);
+    draw_arena(canvas, *trace.task, end != nullptr && end->door_open,
+               end ? end->lit : trace.task->initial_lit(), title, layout);
     cairo_t* cr = canvas.cr();
 
     const double r = options.circle_radius * layout.scale;

@@ -40,8 +40,8 @@ void draw_arena(Canvas& canvas, const sim::Task& task, bool door_open, const std
 /// The same with the lights lit given (bit i: Task::lights()[i]): a ball lit
 /// at the start but not in `lit` is drawn taken (a grey outline), and the
 /// legend names what is drawn (an open door, a taken ball, the spawn point).
-void draw_arena(Canvas& canvas, const sim::Task& task, bool door_open, std::uint32_t lit, const std::string& title,
-                const ArenaLayout& layout = {});
+void draw_arena(Canvas& canvas, const sim::Task& task, bool door_open, std::uint32_t lit,
+                const std::string& title, const ArenaLayout& layout = {});
 
 /// The paper's Fig. 4 / 8: the arena and the trace's poses as small circles in
 /// step order, each filled with saliency_colour(average / max average) of the

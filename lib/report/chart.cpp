@@ -210,10 +210,12 @@ std::array<double, 4> Chart::legend_box(std::span<const std::pair<std::string, C
     return {x, y, box_w, box_h};
 }
 
-void Chart::legend_off(std::span<const std::pair<std::string, Colour>> entries, std::span<const Curve> curves) {
+void Chart::legend_off(std::span<const std::pair<std::string, Colour>> entries,
+                       std::span<const Curve> curves) {
     if (entries.empty()) return;
     // (right, bottom) in the order ties are broken
-    constexpr std::array<std::pair<bool, bool>, 4> corners = {{{false, false}, {true, false}, {true, true}, {false, true}}};
+    constexpr std::array<std::pair<bool, bool>, 4> corners = {
+        {{false, false}, {true, false}, {true, true}, {false, true}}};
     std::size_t best = 0, fewest = std::numeric_limits<std::size_t>::max();
     for (std::size_t k = 0; k < corners.size(); ++k) {
         const auto [x, y, w, h] = legend_box(entries, corners[k].first, corners[k].second);
@@ -230,7 +232,8 @@ void Chart::legend_off(std::span<const std::pair<std::string, Colour>> entries, 
                     // points along the segment to the next point, so a sparse line counts where it passes
                     if (i + 1 < c.x.size()) {
                         for (double t : {0.25, 0.5, 0.75}) {
-                            count(c.x[i] + t * (c.x[i + 1] - c.x[i]), (*ys)[i] + t * ((*ys)[i + 1] - (*ys)[i]));
+                            count(c.x[i] + t * (c.x[i + 1] - c.x[i]),
+                                  (*ys)[i] + t * ((*ys)[i + 1] - (*ys)[i]));
                         }
                     }
                 }

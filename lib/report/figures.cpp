@@ -194,7 +194,10 @@ void draw_treatment_shaping(Canvas& canvas, std::span<const exp::Treatment> trea
                             std::span<const std::vector<std::vector<GenerationPoint>>> series) {
     treatment_series(canvas, treatments, series,
                      {"Shaping signal: mean r_max / A of each generation's policies, median over seeds",
-                      "generation", "mean r_max / A (A: the KB's largest average)", {}, {}},
+                      "generation",
+                      "mean r_max / A (A: the KB's largest average)",
+                      {},
+                      {}},
                      [](const GenerationPoint& g) { return g.mean_shaping; });
 }
 

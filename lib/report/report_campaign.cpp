@@ -227,19 +227,22 @@ void add_statistics(Page& page, const exp::CampaignStats& stats, const std::vect
             const double a = kb == largest.end() ? 0.0 : kb->second;
             for (auto& run : normalised[t]) {
                 for (auto& g : run) {
-                    if (g.mean_shaping) g.mean_shaping = a > 0.0 ? std::optional(*g.mean_shaping / a) : std::nullopt;
+                    if (g.mean_shaping)
+                        g.mean_shaping = a > 0.0 ? std::optional(*g.mean_shaping / a) : std::nullopt;
                 }
             }
         }
-        for (const auto& [name, a] : largest) divisors += concat(divisors.empty() ? "" : ", ", name, " ", fixed(a, 3));
-        page.figure("treatment-shaping", kFigureWidth, kFigureHeight,
-                    concat("The shaping signal as sum adds it: mean r_max / A of the policies evaluated in each "
-                           "generation, median over seeds with the quartile band, where A is the largest average "
-                           "reward of the KB the treatment reads (",
-                           divisors,
-                           "). The -rand treatments read the randomized KB, whose averages are U[0, 1) draws. "
-                           "A treatment drawn exactly over another is named so in the legend."),
-                    [&](Canvas& c) { draw_treatment_shaping(c, treatments, normalised); });
+        for (const auto& [name, a] : largest)
+            divisors += concat(divisors.empty() ? "" : ", ", name, " ", fixed(a, 3));
+        page.figure(
+            "treatment-shaping", kFigureWidth, kFigureHeight,
+            concat("The shaping signal as sum adds it: mean r_max / A of the policies evaluated in each "
+                   "generation, median over seeds with the quartile band, where A is the largest average "
+                   "reward of the KB the treatment reads (",
+                   divisors,
+                   "). The -rand treatments read the randomized KB, whose averages are U[0, 1) draws. "
+                   "A treatment drawn exactly over another is named so in the legend."),
+            [&](Canvas& c) { draw_treatment_shaping(c, treatments, normalised); });
     }
 }
 
@@ -327,7 +330,8 @@ void campaign_report(const ReportOptions& options, const fs::path& dir, ReportSu
     }
 
     const auto stats = load_stats(options, runs, summary.notes);
-    for (const auto& note : summary.notes) page.paragraph(concat("<span class=\"note\">Note: ", xml_escape(note), ".</span>"));
+    for (const auto& note : summary.notes)
+        page.paragraph(concat("<span class=\"note\">Note: ", xml_escape(note), ".</span>"));
     if (stats) add_statistics(page, *stats, runs, campaign_dir, largest);
     progress.update(1);
 

@@ -34,8 +34,8 @@ Trace trace_episode(const std::shared_ptr<const sim::Task>& task, const EpisodeR
     trace.behaviour.reserve(task->behaviour_size());
     const auto result = run([&](const sim::StepView& view) {
         if (view.start != start) return;
-        trace.steps.push_back({view.step, view.pose.x, view.pose.y, view.pose.heading, view.carrying, view.door_open,
-                               view.lit});
+        trace.steps.push_back({view.step, view.pose.x, view.pose.y, view.pose.heading, view.carrying,
+                               view.door_open, view.lit});
         trace.behaviour.insert(trace.behaviour.end(), view.inputs, view.inputs + sim::kInputs);
         trace.behaviour.insert(trace.behaviour.end(), view.outputs, view.outputs + sim::kOutputs);
     });

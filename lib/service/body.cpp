@@ -46,7 +46,8 @@ bool pack(int /*depth*/, json::parse_event_t event, json& parsed) {
         }
         json::binary_t::container_type bytes;
         bytes.reserve(parsed.size() * row_bytes);
-        for (const auto& row : parsed) bytes.insert(bytes.end(), row.get_binary().begin(), row.get_binary().end());
+        for (const auto& row : parsed)
+            bytes.insert(bytes.end(), row.get_binary().begin(), row.get_binary().end());
         parsed = json::binary(std::move(bytes), row_bytes / sizeof(float));
     }
     return true;
@@ -95,7 +96,8 @@ void read_rows(const json& rows, std::size_t width, const std::string& what, std
     if (is_packed_matrix(rows)) {
         const auto row_width = static_cast<std::size_t>(rows.get_binary().subtype());
         if (row_width != width) {
-            throw HttpError(400, concat(what, "[0] has ", row_width, " values, the knowledge base expects ", width));
+            throw HttpError(
+                400, concat(what, "[0] has ", row_width, " values, the knowledge base expects ", width));
         }
         return append_floats(rows.get_binary(), out);
     }

@@ -16,10 +16,9 @@
 // parsed, for the readers below to name in their errors.
 
 #include <cstddef>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 namespace stepstone::service {
 
@@ -33,10 +32,12 @@ std::size_t row_count(const nlohmann::json& rows);
 /// Appends a row of `expected` numbers, packed or not, to `out`; `what` names
 /// it in errors (HttpError 400: not an array, wrong length, not a number, not
 /// finite as float32).
-void read_row(const nlohmann::json& row, std::size_t expected, const std::string& what, std::vector<float>& out);
+void read_row(const nlohmann::json& row, std::size_t expected, const std::string& what,
+              std::vector<float>& out);
 
 /// Appends every row of `rows` (a matrix, packed or not), each of `width`
 /// numbers; errors name row k as what[k].
-void read_rows(const nlohmann::json& rows, std::size_t width, const std::string& what, std::vector<float>& out);
+void read_rows(const nlohmann::json& rows, std::size_t width, const std::string& what,
+               std::vector<float>& out);
 
 }  // namespace stepstone::service

@@ -77,13 +77,15 @@ public:
     void get_remote_ip_and_port(std::string& ip, int& port) const override {
         sockaddr_storage address{};
         socklen_t length = sizeof address;
-        if (::getpeername(sock_, reinterpret_cast<sockaddr*>(&address), &length) == 0) address_of(address, ip, port);
+        if (::getpeername(sock_, reinterpret_cast<sockaddr*>(&address), &length) == 0)
+            address_of(address, ip, port);
     }
 
     void get_local_ip_and_port(std::string& ip, int& port) const override {
         sockaddr_storage address{};
         socklen_t length = sizeof address;
-        if (::getsockname(sock_, reinterpret_cast<sockaddr*>(&address), &length) == 0) address_of(address, ip, port);
+        if (::getsockname(sock_, reinterpret_cast<sockaddr*>(&address), &length) == 0)
+            address_of(address, ip, port);
     }
 
     socket_t socket() const override { return sock_; }

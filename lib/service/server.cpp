@@ -120,7 +120,9 @@ constexpr std::chrono::milliseconds kIdleTime{5000};
 
 struct HttpServer::Impl {
     explicit Impl(const ServeOptions& options)
-        : token(checked_token(options)), server(request_time(options), kIdleTime), work_slots(work_threads(options)) {}
+        : token(checked_token(options)),
+          server(request_time(options), kIdleTime),
+          work_slots(work_threads(options)) {}
     std::string token;
     std::unique_ptr<KbService> service;
     BoundedServer server;

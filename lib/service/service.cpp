@@ -16,8 +16,8 @@
 #include "exp/kb_stats.hpp"
 #include "exp/run_store.hpp"
 #include "kb/segments.hpp"
-#include "service/body.hpp"
 #include "report/figures.hpp"
+#include "service/body.hpp"
 
 namespace stepstone::service {
 
@@ -174,10 +174,12 @@ json KbService::kb_info(const std::string& name) const {
 json KbService::lookup(const std::string& name, const json& body) const {
     const Kb& kb = find(name);
     const auto& rows = member(body, "segments");
-    if (!rows.is_array() && row_count(rows) == 0) throw HttpError(400, "\"segments\" must be an array of segments");
+    if (!rows.is_array() && row_count(rows) == 0)
+        throw HttpError(400, "\"segments\" must be an array of segments");
     const std::size_t count = row_count(rows);
     if (count > limits_.max_segments) {
-        throw HttpError(413, concat("\"segments\" has ", count, " segments, more than ", limits_.max_segments));
+        throw HttpError(413,
+                        concat("\"segments\" has ", count, " segments, more than ", limits_.max_segments));
     }
     const std::size_t dim = kb.kb.params().dim();
     std::vector<float> values;

@@ -171,8 +171,8 @@ EpisodeResult run_episode(const Task& task, Controller& controller, const Record
             if constexpr (requires { controller.observe_pose(pose); }) controller.observe_pose(pose);
             controller.step(inputs.data(), outputs.data());
             episode.act(outputs.data());
-            observer(StepView{start, step, pose, inputs.data(), outputs.data(), episode.carrying(), episode.balls(),
-                              episode.door_open(), episode.lit()});
+            observer(StepView{start, step, pose, inputs.data(), outputs.data(), episode.carrying(),
+                              episode.balls(), episode.door_open(), episode.lit()});
             if (episode.stopped()) break;
         }
     }

@@ -493,7 +493,10 @@ TEST_CASE("a campaign keeps kb.file as its config gives it, and resumes one that
     const auto fixture = std::filesystem::path(STEPSTONE_SOURCE_DIR) / "examples/fixtures/demo_kb.db.gz";
     const std::string given = std::filesystem::relative(fixture, dir.path()).string();
     REQUIRE(given.rfind("..", 0) == 0);  // a relative path, from the config's folder
-    test::write_file(dir / "c.json", R"({"kb": {"file": ")" + given + R"("}, "target": {"config": {"task": {"kind": "target", "steps_per_start": 100, "starts": 1}, "ea": {"population_size": 8}}, "runs": 1, "generations": 1, "treatments": ["sum"]}})");
+    test::write_file(
+        dir / "c.json",
+        R"({"kb": {"file": ")" + given +
+            R"("}, "target": {"config": {"task": {"kind": "target", "steps_per_start": 100, "starts": 1}, "ea": {"population_size": 8}}, "runs": 1, "generations": 1, "treatments": ["sum"]}})");
     const auto made = campaign(dir, "camp", {});
     INFO(made.err);
     REQUIRE(made.exit_code == 0);

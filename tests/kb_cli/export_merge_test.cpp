@@ -51,8 +51,8 @@ TEST_CASE("kb export writes the run's knowledge base unchanged under the same na
     CHECK(exported.kb.sources()[0].policies == from_run.kb.sources()[0].policies);
 
     // the names every kb command shares: --kb-name picks the input's KB, --name names the output
-    result = test::run_cli({"kb", "export", (dir / "run.db").string(), "--kb-name", "run", "--name", "mine", "--out",
-                            (dir / "named.db").string()});
+    result = test::run_cli({"kb", "export", (dir / "run.db").string(), "--kb-name", "run", "--name", "mine",
+                            "--out", (dir / "named.db").string()});
     REQUIRE(result.exit_code == 0);
     auto named = db::open_database(dir / "named.db", db::OpenMode::read_only);
     CHECK(db::list_kbs(named).at(0).name == "mine");

@@ -1,7 +1,6 @@
 // The arena figure puts wall pixels exactly where the geometry puts walls.
 
 #include <catch2/catch.hpp>
-
 #include <cmath>
 #include <random>
 
@@ -108,20 +107,23 @@ TEST_CASE("a trajectory draws the balls as its last step left them: a taken ball
     Trace trace;
     trace.task = task;
     const auto pose = task->start_pose(0);
-    trace.steps.push_back({0, pose.x, pose.y, pose.heading, true, false, task->initial_lit() & ~(1u << ball)});
+    trace.steps.push_back(
+        {0, pose.x, pose.y, pose.heading, true, false, task->initial_lit() & ~(1u << ball)});
     const ArenaLayout layout;
     Canvas canvas(layout.width, layout.height, Format::png);
     draw_trajectory(canvas, trace, {}, layout);
     const auto image = reporttest::decode_png(canvas.finish());
-    const int px = static_cast<int>(layout.px(lights[ball].x)), py = static_cast<int>(layout.py(lights[ball].y));
+    const int px = static_cast<int>(layout.px(lights[ball].x)),
+              py = static_cast<int>(layout.py(lights[ball].y));
     CHECK(image.at(px, py) != rgb(kBall));  // its inside is floor: the ball is gone
     CHECK(image.at(px, py) == rgb(kFloor));
     // a ball still lit is drawn filled
     std::size_t other = lights.size();
     for (std::size_t i = 0; i < lights.size(); ++i) {
-        if (i != ball && lights[i].kind == sim::LightKind::ball && ((task->initial_lit() >> i) & 1u)) other = i;
+        if (i != ball && lights[i].kind == sim::LightKind::ball && ((task->initial_lit() >> i) & 1u))
+            other = i;
     }
     REQUIRE(other < lights.size());
-    CHECK(image.at(static_cast<int>(layout.px(lights[other].x)), static_cast<int>(layout.py(lights[other].y))) ==
-          rgb(kBall));
+    CHECK(image.at(static_cast<int>(layout.px(lights[other].x)),
+                   static_cast<int>(layout.py(lights[other].y))) == rgb(kBall));
 }

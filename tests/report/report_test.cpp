@@ -117,7 +117,8 @@ TEST_CASE("a campaign's report compares the treatments and shows the KB and the 
         return std::string(text);
     };
     CHECK(html.find("mean r_max / A") != std::string::npos);
-    CHECK(html.find(concat("(kb ", largest("kb/kb.db"), ", kb-rand ", largest("kb/kb-rand.db"), ")")) != std::string::npos);
+    CHECK(html.find(concat("(kb ", largest("kb/kb.db"), ", kb-rand ", largest("kb/kb-rand.db"), ")")) !=
+          std::string::npos);
 
     // the best target run's reward decides the heading: a best reward of 0 is no best policy
     const auto best_target = [&](double reward) {

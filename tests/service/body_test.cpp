@@ -31,7 +31,8 @@ std::string error_of(const json& rows, std::size_t width) {
 }  // namespace
 
 TEST_CASE("rows of numbers are packed as float32 and read back as the unpacked DOM's values") {
-    const std::string text = R"({"m": [[0.1, 2, -3.5e-3], [1e30, 0, -0.0]], "uneven": [[1, 2], [3]], "mixed": [[1, "a"]]})";
+    const std::string text =
+        R"({"m": [[0.1, 2, -3.5e-3], [1e30, 0, -0.0]], "uneven": [[1, 2], [3]], "mixed": [[1, "a"]]})";
     const json packed = parse_body(text);
     const json plain = json::parse(text);
     REQUIRE(packed["m"].is_binary());

@@ -41,7 +41,9 @@ std::size_t peak_rss(pid_t pid) {
     return 0;
 }
 
-double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+double seconds_since(Clock::time_point start) {
+    return std::chrono::duration<double>(Clock::now() - start).count();
+}
 
 // a raw TCP connection to the server on loopback (-1 if it cannot connect)
 int connect_to(int port) {
@@ -63,10 +65,12 @@ class SlowClient {
 public:
     SlowClient(int port, std::chrono::milliseconds pause) : sock_(connect_to(port)) {
         thread_ = std::thread([this, pause] {
-            const std::string header = "GET /healthz HTTP/1.1\r\nHost: 127.0.0.1\r\nX-Slow: " + std::string(10000, 'a');
+            const std::string header =
+                "GET /healthz HTTP/1.1\r\nHost: 127.0.0.1\r\nX-Slow: " + std::string(10000, 'a');
             for (std::size_t i = 0; i < header.size() && !done_; ++i) {
                 if (::send(sock_, &header[i], 1, MSG_NOSIGNAL) != 1) break;
-                for (auto waited = std::chrono::milliseconds(0); waited < pause && !done_; waited += std::chrono::milliseconds(10)) {
+                for (auto waited = std::chrono::milliseconds(0); waited < pause && !done_;
+                     waited += std::chrono::milliseconds(10)) {
                     std::this_thread::sleep_for(std::chrono::milliseconds(10));
                 }
             }
@@ -156,7 +160,8 @@ TEST_CASE("serve --timeout bounds a whole request, not each read") {
     CHECK(server.stop() == 0);
 }
 
-TEST_CASE("a bounded fuzz of the service gets only 2xx or 4xx with short JSON errors, and the server stays up") {
+TEST_CASE(
+    "a bounded fuzz of the service gets only 2xx or 4xx with short JSON errors, and the server stays up") {
     test::TempDir dir;
     reporttest::make_run(dir / "run.db");
     ServerProcess server({(dir / "run.db").string(), "--max-body", "200000"}, dir.path());
@@ -187,34 +192,63 @@ TEST_CASE("a bounded fuzz of the service gets only 2xx or 4xx with short JSON er
         }
         return s;
     };
-    const std::vector<std::string> paths = {"/v1/kbs", "/v1/kbs/run", "/v1/kbs/run/lookup", "/v1/kbs/run/shape",
-                                            "/v1/kbs/run/segments", "/v1/kbs/run/observe", "/v1/runs",
-                                            "/v1/runs/1/generations", "/v1/runs/99999999999999999999/generations",
-                                            "/v1/campaign", "/v1/kbs/%ff", "/v1/kbs/%ff/lookup", "/x%ff", "/v1/"};
-    const std::vector<std::string> numbers = {"1e400", "-1e400", "1e308", "NaN", "Infinity", "-0", "0x10", "1e-400",
-                                              "99999999999999999999999", "\"0.5\"", "null", "[]", "{}", "0.5"};
+    const std::vector<std::string> paths = {"/v1/kbs",
+                                            "/v1/kbs/run",
+                                            "/v1/kbs/run/lookup",
+                                            "/v1/kbs/run/shape",
+                                            "/v1/kbs/run/segments",
+                                            "/v1/kbs/run/observe",
+                                            "/v1/runs",
+                                            "/v1/runs/1/generations",
+                                            "/v1/runs/99999999999999999999/generations",
+                                            "/v1/campaign",
+                                            "/v1/kbs/%ff",
+                                            "/v1/kbs/%ff/lookup",
+                                            "/x%ff",
+                                            "/v1/"};
+    const std::vector<std::string> numbers = {
+        "1e400",   "-1e400", "1e308", "NaN", "Infinity", "-0", "0x10", "1e-400", "99999999999999999999999",
+        "\"0.5\"", "null",   "[]",    "{}",  "0.5"};
     const std::vector<std::string> keys = {"order", "limit", "min_count", "values", "x"};
     int requests = 0;
     for (int i = 0; i < 400; ++i) {
         std::string path = pick(paths);
         switch (rng() % 4) {
-            case 0: path += percent_encoded(1 + rng() % 8); break;
-            case 1: path += "?" + pick(keys) + "=" + (rng() % 2 ? percent_encoded(1 + rng() % 6) : pick(numbers)); break;
-            case 2: path += "?" + pick(keys) + "=" + std::to_string(static_cast<std::int64_t>(rng()) - (1ll << 31)); break;
-            default: break;
+            case 0:
+                path += percent_encoded(1 + rng() % 8);
+                break;
+            case 1:
+                path += "?" + pick(keys) + "=" + (rng() % 2 ? percent_encoded(1 + rng() % 6) : pick(numbers));
+                break;
+            case 2:
+                path +=
+                    "?" + pick(keys) + "=" + std::to_string(static_cast<std::int64_t>(rng()) - (1ll << 31));
+                break;
+            default:
+                break;
         }
         std::string body;
         switch (rng() % 5) {
-            case 0: body = random_bytes(rng() % 300); break;
-            case 1: body = "{\"segments\": [[" + pick(numbers) + "]]}"; break;
+            case 0:
+                body = random_bytes(rng() % 300);
+                break;
+            case 1:
+                body = "{\"segments\": [[" + pick(numbers) + "]]}";
+                break;
             case 2: {
                 body = "{\"segments\": [[";
-                for (int k = 0; k < 150; ++k) body += (k ? "," : "") + (k == 7 ? pick(numbers) : std::string("0.5"));
+                for (int k = 0; k < 150; ++k)
+                    body += (k ? "," : "") + (k == 7 ? pick(numbers) : std::string("0.5"));
                 body += "]]}";
                 break;
             }
-            case 3: body = "{\"behaviour\": [[" + pick(numbers) + "," + pick(numbers) + "]], \"" + random_bytes(4) + "\": 1}"; break;
-            default: body = "{\"policies\": [{\"behaviour\": [[1]], \"reward\": " + pick(numbers) + "}]}"; break;
+            case 3:
+                body = "{\"behaviour\": [[" + pick(numbers) + "," + pick(numbers) + "]], \"" +
+                       random_bytes(4) + "\": 1}";
+                break;
+            default:
+                body = "{\"policies\": [{\"behaviour\": [[1]], \"reward\": " + pick(numbers) + "}]}";
+                break;
         }
         httplib::Headers headers;
         if (rng() % 3 == 0) headers.emplace("X-" + std::to_string(rng() % 100), header_bytes(rng() % 40));
