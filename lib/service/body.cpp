@@ -78,12 +78,13 @@ std::size_t row_count(const json& rows) {
 }
 
 void read_row(const json& row, std::size_t expected, const std::string& what, std::vector<float>& out) {
-    const std::size_t size = is_packed_row(row) ? row.get_binary().size() / sizeof(float) : row.size();
-    if (!is_packed_row(row) && !row.is_array()) throw HttpError(400, what + " must be an array of numbers");
+    const bool packed = is_packed_row(row);
+    if (!packed && !row.is_array()) throw HttpError(400, what + " must be an array of numbers");
+    const std::size_t size = packed ? row.get_binary().size() / sizeof(float) : row.size();
     if (size != expected) {
         throw HttpError(400, concat(what, " has ", size, " values, the knowledge base expects ", expected));
     }
-    if (is_packed_row(row)) return append_floats(row.get_binary(), out);
+    if (packed) return append_floats(row.get_binary(), out);
     for (std::size_t k = 0; k < row.size(); ++k) {
         if (!row[k].is_number()) throw HttpError(400, concat(what, "[", k, "] is not a number"));
         const auto f = finite_float(row[k]);

@@ -174,9 +174,9 @@ json KbService::kb_info(const std::string& name) const {
 json KbService::lookup(const std::string& name, const json& body) const {
     const Kb& kb = find(name);
     const auto& rows = member(body, "segments");
-    if (!rows.is_array() && row_count(rows) == 0)
-        throw HttpError(400, "\"segments\" must be an array of segments");
+    // an array, or a matrix packed while parsing (service/body.hpp)
     const std::size_t count = row_count(rows);
+    if (!rows.is_array() && count == 0) throw HttpError(400, "\"segments\" must be an array of segments");
     if (count > limits_.max_segments) {
         throw HttpError(413,
                         concat("\"segments\" has ", count, " segments, more than ", limits_.max_segments));
