@@ -19,18 +19,6 @@ KbWritten written(const std::string& name, const kb::KnowledgeBase& kb, std::opt
     return {name, kb.params(), kb.size(), seed, kb.max_average()};
 }
 
-// writes one KB as the only content of a new file, atomically
-void write_kb_file(const fs::path& out, bool force, const std::string& name, const kb::KnowledgeBase& kb,
-                   std::optional<std::uint64_t> seed) {
-    db::OutputDatabase output(out, force);
-    {
-        db::Transaction transaction(output.connection());
-        db::insert_kb(output.connection(), name, kb, seed);
-        transaction.commit();
-    }
-    output.commit();
-}
-
 // the first parameter in which two KBs differ, named as the config does
 std::optional<std::string> params_mismatch(const kb::KbParams& a, const kb::KbParams& b,
                                            const std::string& a_name, const std::string& b_name) {
@@ -50,6 +38,17 @@ std::optional<std::string> params_mismatch(const kb::KbParams& a, const kb::KbPa
 
 }  // namespace
 
+void save_kb_file(const fs::path& out, bool force, const std::string& name, const kb::KnowledgeBase& kb,
+                  std::optional<std::uint64_t> seed) {
+    db::OutputDatabase output(out, force);
+    {
+        db::Transaction transaction(output.connection());
+        db::insert_kb(output.connection(), name, kb, seed);
+        transaction.commit();
+    }
+    output.commit();
+}
+
 db::StoredKb load_kb_file(const fs::path& path, const std::string& name) {
     auto connection = db::open_database(path, db::OpenMode::read_only);
     return db::load_kb(connection, name);
@@ -61,7 +60,7 @@ KbWritten export_kb(const fs::path& run_db, const std::string& name, const fs::p
     const auto stored = load_kb_file(run_db, name);
     const std::string written_name = out_name.empty() ? stored.name : out_name;
     if (!delta) {
-        write_kb_file(out, force, written_name, stored.kb, stored.randomized_seed);
+        save_kb_file(out, force, written_name, stored.kb, stored.randomized_seed);
         return written(written_name, stored.kb, stored.randomized_seed);
     }
     if (stored.randomized_seed) {
@@ -69,7 +68,7 @@ KbWritten export_kb(const fs::path& run_db, const std::string& name, const fs::p
                                "\" is randomized; coarsen the real KB, then randomize it"));
     }
     const kb::KnowledgeBase coarse = stored.kb.coarsened(*delta);
-    write_kb_file(out, force, written_name, coarse, std::nullopt);
+    save_kb_file(out, force, written_name, coarse, std::nullopt);
     return written(written_name, coarse, std::nullopt);
 }
 
@@ -92,7 +91,7 @@ KbWritten merge_kb_files(std::span<const fs::path> inputs, const fs::path& out, 
     kb::KnowledgeBase merged = std::move(loaded[0].kb);
     for (std::size_t i = 1; i < loaded.size(); ++i) merged.merge(loaded[i].kb);
     const std::string out_name = name.empty() ? loaded[0].name : name;
-    write_kb_file(out, force, out_name, merged, std::nullopt);
+    save_kb_file(out, force, out_name, merged, std::nullopt);
     return written(out_name, merged, std::nullopt);
 }
 
@@ -102,7 +101,7 @@ KbWritten randomize_kb_file(const fs::path& in, const fs::path& out, std::uint64
     const auto stored = load_kb_file(in, input_name);
     const kb::KnowledgeBase randomized = stored.kb.randomized(seed);
     const std::string out_name = name.empty() ? stored.name + "-rand" : name;
-    write_kb_file(out, force, out_name, randomized, seed);
+    save_kb_file(out, force, out_name, randomized, seed);
     return written(out_name, randomized, seed);
 }
 

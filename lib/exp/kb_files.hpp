@@ -25,6 +25,13 @@ struct KbWritten {
     double max_average = 0.0;                      ///< its largest average reward (0 if empty)
 };
 
+/// Writes `kb` under `name` as the only content of a new KB file `out`,
+/// atomically (written under a temporary name, then renamed). Throws
+/// ConfigError for an existing output without `force`, a folder, or a
+/// missing parent folder; DataError for an unusable name.
+void save_kb_file(const std::filesystem::path& out, bool force, const std::string& name,
+                  const kb::KnowledgeBase& kb, std::optional<std::uint64_t> randomized_seed = std::nullopt);
+
 /// Loads the KB called `name` (empty: the only one) of the file at `path`,
 /// opened read-only.
 db::StoredKb load_kb_file(const std::filesystem::path& path, const std::string& name);
