@@ -4,6 +4,8 @@
 #include <pybind11/stl.h>
 
 #include <atomic>
+#include <chrono>
+#include <cmath>
 #include <memory>
 #include <optional>
 #include <string>
@@ -190,6 +192,28 @@ std::string repr(const PyKb& self) {
                   shortest(p.delta), ", ", db::to_string(p.match), ">");
 }
 
+// seconds the C++ side takes for lookup() (or r_max()) of every policy of a
+// (policies x steps x channels) array, timed in this process: the baseline of
+// the Python calls' rate (examples/python/lookup_speed.py)
+double time_lookups(const PyKb& self, const FloatArray& behaviours, bool r_max_only) {
+    if (behaviours.ndim() != 3 || static_cast<std::size_t>(behaviours.shape(2)) != self.kb.params().channels) {
+        throw py::value_error("behaviours must be a (policies x steps x channels) array");
+    }
+    const auto per_policy = static_cast<std::size_t>(behaviours.shape(1) * behaviours.shape(2));
+    const auto policies = static_cast<std::size_t>(behaviours.shape(0));
+    const kb::KbParams& params = self.kb.params();
+    py::gil_scoped_release release;
+    double sink = 0.0;
+    const auto start = std::chrono::steady_clock::now();
+    for (std::size_t i = 0; i < policies; ++i) {
+        const std::span<const float> values(behaviours.data() + i * per_policy, per_policy);
+        const kb::Segments segments = kb::segment_behaviour(values, params.channels, params.segment_width);
+        sink += r_max_only ? self.kb.r_max(segments) : self.kb.lookup(segments).r_max;
+    }
+    const std::chrono::duration<double> elapsed = std::chrono::steady_clock::now() - start;
+    return sink >= 0.0 ? elapsed.count() : -elapsed.count();  // (keeps the loop from being dropped)
+}
+
 }  // namespace
 
 void bind_kb(py::module_& m) {
@@ -306,6 +330,10 @@ Every answer is exact and independent of threads.
                                "the largest average reward (0 if empty): the `sum` treatment's normaliser")
         .def("__len__", [](const PyKb& s) { return s.kb.size(); })
         .def("__repr__", &repr);
+
+    m.def("_time_lookups", &time_lookups, py::arg("kb"), py::arg("behaviours"), py::arg("r_max_only") = false,
+          "Seconds the library takes to look every policy of a (policies x steps x channels) array up in `kb`, "
+          "in a C++ loop (the baseline of examples/python/lookup_speed.py).");
 }
 
 }  // namespace stepstone::python
