@@ -23,6 +23,18 @@ for file in libstepstone_core.a libstepstone_service.a stepstoneConfig.cmake ste
 done
 [[ ! -e $prefix/include/stepstone/bench ]] || fail "the bench headers are internal but were installed"
 
+# the Python module, where Debian's python3 looks under this prefix (when the build made it)
+if [[ -n $(find "$build/python" -maxdepth 1 -name 'stepstone*.so' 2>/dev/null) ]]; then
+    module=$(find "$prefix/lib" -path '*dist-packages/stepstone*.so')
+    [[ -n $module ]] || fail "not installed: the Python module (lib/python3.X/dist-packages/stepstone*.so)"
+    PYTHONPATH=$(dirname "$module") /usr/bin/python3 -c "
+import stepstone, numpy as np
+kb = stepstone.KnowledgeBase(width=2, channels=1, delta=1.5)
+kb.observe(np.array([[0], [0], [1], [0]], dtype=np.float32), 0.5)
+assert len(kb) == 1 and kb.records['count'][0] == 2, kb.records
+" || fail "the installed Python module does not import or work"
+fi
+
 # CMake consumer: the example's own CMakeLists.txt in standalone mode
 cmake -S "$source/examples/zdt1" -B "$work/zdt1-cmake" -G Ninja -DCMAKE_BUILD_TYPE=Release \
     -DCMAKE_PREFIX_PATH="$prefix" > "$work/zdt1-cmake.log" 2>&1 || { cat "$work/zdt1-cmake.log"; fail "find_package(stepstone) failed"; }
