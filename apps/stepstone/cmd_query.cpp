@@ -67,7 +67,7 @@ void add_query_command(CLI::App& app) {
     cmd->callback([flags] { run_query_command(*flags); });
 }
 
-struct ExportFlags {
+struct TableExportFlags {
     std::string input;
     std::string what;
     std::string csv;
@@ -75,7 +75,7 @@ struct ExportFlags {
 };
 
 void add_export_command(CLI::App& app) {
-    auto flags = std::make_shared<ExportFlags>();
+    auto flags = std::make_shared<TableExportFlags>();
     auto* cmd = app.add_subcommand("export", "Write a run's or a campaign's generations, individuals or KB as tidy CSV");
     cmd->add_option("input", flags->input, "A run file, or a campaign directory (every run)")->required();
     cmd->add_option("--what", flags->what, "generations, individuals or kb")->required();

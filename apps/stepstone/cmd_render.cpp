@@ -80,7 +80,7 @@ void run_render(const RenderFlags& flags) {
     options.first_step = first;
     options.last_step = last;
     options.heading_every = flags.heading_every;
-    report::ArenaLayout layout;
+    const auto layout = report::ArenaLayout::fit(trace.task->arena_spec());
     report::Canvas canvas(layout.width, layout.height, format);
     report::draw_trajectory(canvas, trace, options, layout);
     canvas.save(flags.out, flags.force);

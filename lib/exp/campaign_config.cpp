@@ -50,7 +50,7 @@ RunStep read_step(JsonReader& reader, const fs::path& base) {
     if (raw.is_string()) {
         step.config = EvolveConfig::load(base / raw.get<std::string>());
     } else if (raw.is_object()) {
-        step.config = EvolveConfig::from_json(raw, reader.path_of("config"));
+        step.config = EvolveConfig::from_json(raw, reader.path_of("config"), base);
     } else {
         throw ConfigError(
             concat(reader.path_of("config"),

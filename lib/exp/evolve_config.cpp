@@ -8,8 +8,24 @@ namespace stepstone::exp {
 
 namespace {
 
-sim::TaskConfig read_task(JsonReader reader) {
+// task.arena: a file name (relative to `folder`) or the arena itself, inline (as a run stores it)
+std::shared_ptr<const sim::ArenaSpec> read_arena(JsonReader& reader, const std::filesystem::path& folder) {
+    const nlohmann::json& raw = reader.raw("arena");
+    if (raw.is_null()) return nullptr;
+    if (raw.is_string()) {
+        std::filesystem::path file = raw.get<std::string>();
+        if (file.is_relative() && !folder.empty()) file = folder / file;
+        return std::make_shared<const sim::ArenaSpec>(sim::ArenaSpec::load(file));
+    }
+    if (!raw.is_object()) {
+        throw ConfigError(concat(reader.path_of("arena"), " must be an arena file's name or an arena object"));
+    }
+    return std::make_shared<const sim::ArenaSpec>(sim::ArenaSpec::from_json(raw, reader.path_of("arena")));
+}
+
+sim::TaskConfig read_task(JsonReader reader, const std::filesystem::path& folder) {
     sim::TaskConfig task;
+    task.arena = read_arena(reader, folder);
     std::string kind(sim::to_string(task.kind));
     reader.read_choice("kind", kind, {"source", "target"});
     task.kind = sim::parse_task_kind(kind, reader.path_of("kind"));
@@ -65,11 +81,12 @@ TransferConfig read_transfer(JsonReader reader) {
 
 }  // namespace
 
-EvolveConfig EvolveConfig::from_json(const nlohmann::json& json, const std::string& source) {
+EvolveConfig EvolveConfig::from_json(const nlohmann::json& json, const std::string& source,
+                                     const std::filesystem::path& folder) {
     try {
         JsonReader root(json, "");
         EvolveConfig config;
-        config.task = read_task(root.child("task"));
+        config.task = read_task(root.child("task"), folder);
         config.ea = read_ea(root.child("ea"));
         auto dnn = root.child("dnn");
         config.dnn = nn::DnnConfig::from_json(dnn);
@@ -106,7 +123,7 @@ EvolveConfig EvolveConfig::load(const std::filesystem::path& path) {
         throw ConfigError(concat(path.string(), ": this is a campaign config, not a run config (run it with: "
                                                 "stepstone campaign ", path.string(), " --dir DIR)"));
     }
-    EvolveConfig config = from_json(json, path.string());
+    EvolveConfig config = from_json(json, path.string(), path.parent_path());
     if (config.transfer && !config.transfer->kb.empty() && config.transfer->kb.is_relative()) {
         config.transfer->kb = path.parent_path() / config.transfer->kb;
     }
@@ -120,6 +137,8 @@ nlohmann::json EvolveConfig::to_json() const {
                     {"starts", task.starts},
                     {"still_limit", task.still_limit},
                     {"grid_period", task.grid_period}};
+    // a run stores its arena whole, so that it replays without the file; the paper's is the default
+    if (task.arena) json["task"]["arena"] = task.arena->to_json();
     json["ea"] = {{"population_size", ea.population_size}, {"initial_multiplier", ea.initial_multiplier}};
     json["dnn"] = {{"inputs", dnn.inputs},
                    {"outputs", dnn.outputs},

@@ -74,9 +74,12 @@ struct EvolveConfig {
     /// generations, initial_multiplier}, dnn {see nn::DnnConfig}, kb
     /// {segment_width, delta, period, match}, transfer {treatment, kb,
     /// kb_name, kb_digest}, seed, retain.
-    static EvolveConfig from_json(const nlohmann::json& json, const std::string& source = "config");
-    /// Reads and parses a config file; a relative transfer.kb is taken
-    /// relative to the file's folder.
+    /// task.arena names an arena file (relative to `folder`, else to the working
+    /// directory) or holds the arena itself (sim::ArenaSpec::from_json).
+    static EvolveConfig from_json(const nlohmann::json& json, const std::string& source = "config",
+                                  const std::filesystem::path& folder = {});
+    /// Reads and parses a config file; a relative transfer.kb or task.arena is
+    /// taken relative to the file's folder.
     static EvolveConfig load(const std::filesystem::path& path);
 
     /// The effective config as stored with the run: every key with its value,

@@ -196,6 +196,18 @@ private:
 
 }  // namespace
 
+ArenaLayout ArenaLayout::fit(const sim::ArenaSpec& arena) {
+    ArenaLayout layout;
+    double bottom = arena.door.y1;
+    for (const auto& w : arena.walls) bottom = std::max(bottom, w.y1);
+    bottom = std::max(bottom, arena.basket.centre.y + arena.basket.radius);
+    if (bottom + 44.0 > layout.legend_y) {
+        layout.scale *= layout.legend_y / (bottom + 44.0);
+        layout.legend_y = bottom + 44.0;
+    }
+    return layout;
+}
+
 void draw_arena(Canvas& canvas, const sim::Task& task, bool door_open, const std::string& title,
                 const ArenaLayout& layout) {
     draw_arena(canvas, task, door_open, task.initial_lit(), title, layout);
@@ -208,17 +220,23 @@ void draw_arena(Canvas& canvas, const sim::Task& task, bool door_open, std::uint
     cairo_t* cr = canvas.cr();
     canvas.fill(kWhite);
     if (!title.empty()) canvas.text(canvas.width() / 2.0, 14.0, title, 17.0, kText, 0.5, 0.0, true);
-    cairo_rectangle(cr, layout.px(0.0), layout.py(0.0), sim::kMapSize * layout.scale, 400.0 * layout.scale);
+    // the floor: the box around every wall (the paper's: the map's 600 x 400 units)
+    const auto& arena = task.arena();
+    const auto walls = arena.walls();
+    double x0 = walls[0].x0, y0 = walls[0].y0, x1 = walls[0].x1, y1 = walls[0].y1;
+    for (const auto& w : walls) {
+        x0 = std::min(x0, w.x0), y0 = std::min(y0, w.y0), x1 = std::max(x1, w.x1), y1 = std::max(y1, w.y1);
+    }
+    cairo_rectangle(cr, layout.px(x0), layout.py(y0), (x1 - x0) * layout.scale, (y1 - y0) * layout.scale);
     canvas.set_colour(kFloor);
     cairo_fill(cr);
 
     // the basket disc first: it lies under the bottom wall
-    disc(cr, layout.px(sim::kBasketX), layout.py(sim::kBasketY), sim::kBasketRadius * layout.scale);
+    const sim::Basket& basket = task.basket();
+    disc(cr, layout.px(basket.centre.x), layout.py(basket.centre.y), basket.radius * layout.scale);
     canvas.set_colour(kBasket, 0.35);
     cairo_fill(cr);
 
-    const auto& arena = task.arena();
-    const auto walls = arena.walls();
     for (std::size_t i = 0; i < walls.size(); ++i) {
         const auto& w = walls[i];
         cairo_rectangle(cr, layout.px(w.x0), layout.py(w.y0), (w.x1 - w.x0) * layout.scale,
@@ -265,7 +283,7 @@ void draw_arena(Canvas& canvas, const sim::Task& task, bool door_open, std::uint
         }
     }
     for (int s = 0; s < 3; ++s) draw_start_pose(canvas, task.start_pose(s), s + 1, layout);
-    draw_legend(canvas, layout, layout.py(445.0) + 14.0, state);
+    draw_legend(canvas, layout, layout.py(layout.legend_y) + 14.0, state);
 }
 
 Colour circle_colour(const std::optional<kb::SegmentMatch>& match, double max_average) {
@@ -334,7 +352,7 @@ void draw_trajectory(Canvas& canvas, const Trace& trace, const TrajectoryOptions
     }
 
     // the colour bar, then the heading key, on the legend's second and third rows
-    double y = layout.py(445.0) + 38.0;
+    double y = layout.py(layout.legend_y) + 38.0;
     double x = layout.left;
     if (trace.has_kb()) {
         const std::string label = "circles: average reward of the KB segment matched at that step";

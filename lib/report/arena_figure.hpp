@@ -17,8 +17,13 @@ struct ArenaLayout {
     double top = 46.0;
     int width = 800;
     int height = 680;  ///< room below the arena for the basket disc and the legend
+    double legend_y = 445.0;  ///< units: where the legend rows start, below the arena
     double px(double x) const { return left + x * scale; }
     double py(double y) const { return top + y * scale; }
+
+    /// The layout that fits `arena` in the same canvas: the paper's arena keeps
+    /// the default; a taller one moves the legend down and shrinks the scale.
+    static ArenaLayout fit(const sim::ArenaSpec& arena);
 };
 
 /// What a trajectory figure shows.

@@ -92,7 +92,7 @@ void write_index(const Page& page, const fs::path& dir, ReportSummary& summary) 
 }
 
 void add_trajectory(Page& page, const std::string& name, const Trace& trace, const std::string& what) {
-    ArenaLayout layout;
+    const ArenaLayout layout = ArenaLayout::fit(trace.task->arena_spec());
     TrajectoryOptions options;
     page.figure(name, layout.width, layout.height,
                 concat(what, ": individual ", trace.individual_id, " (generation ", trace.generation, "), start ",
@@ -169,7 +169,10 @@ void run_report(const ReportOptions& options, const fs::path& dir, ReportSummary
     page.heading("The arena and the best policy");
     page.figure("arena", ArenaLayout{}.width, ArenaLayout{}.height,
                 "The arena at the start of an evaluation: walls, door, balls, switch, basket and the three start poses.",
-                [&](Canvas& c) { draw_arena(c, *task, task->door_starts_open(), concat("The ", run.task, " task's arena")); });
+                [&](Canvas& c) {
+                    draw_arena(c, *task, task->door_starts_open(), concat("The ", run.task, " task's arena"),
+                               ArenaLayout::fit(task->arena_spec()));
+                });
     progress.update(3);
     const auto stored = figure_kb(options.input, "", "");
     const auto trace = trace_policy(options.input, "best", 0, stored ? &stored->kb : nullptr, stored ? stored->name : "");

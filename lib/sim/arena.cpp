@@ -11,36 +11,14 @@
 #endif
 
 #include "core/assert.hpp"
+#include "core/error.hpp"
+#include "core/text.hpp"
 #include "sim/cos_sin.hpp"
 #include "sim/units.hpp"
 
 namespace stepstone::sim {
 
 namespace {
-
-// the bitmap is 296 px for 600 units; pixel i covers [(i - 0.5) s, (i + 0.5) s)
-constexpr double kUnitsPerPixel = 600.0 / 296.0;
-
-constexpr WallBox pixel_box(int px0, int px1, int py0, int py1, std::string_view name) {
-    return WallBox{(px0 - 0.5) * kUnitsPerPixel, (py0 - 0.5) * kUnitsPerPixel, (px1 + 0.5) * kUnitsPerPixel,
-                   (py1 + 0.5) * kUnitsPerPixel, name};
-}
-
-// pixel ranges of arena2.pbm / arena2b.pbm (docs/original.md: arena), inclusive; the
-// door comes last so the open arena is the closed one minus its last box
-constexpr std::array<WallBox, 11> kWalls{{
-    pixel_box(0, 4, 0, 197, "outer left"),
-    pixel_box(291, 295, 0, 197, "outer right"),
-    pixel_box(0, 295, 0, 4, "outer top"),
-    pixel_box(0, 295, 195, 197, "bottom"),
-    pixel_box(100, 102, 5, 126, "divider above the door"),
-    pixel_box(100, 102, 174, 194, "divider below the door"),
-    pixel_box(100, 223, 99, 101, "horizontal wall, left part"),
-    pixel_box(270, 295, 99, 101, "horizontal wall, right part"),
-    pixel_box(196, 198, 102, 126, "upper stub"),
-    pixel_box(196, 198, 174, 194, "lower stub"),
-    pixel_box(100, 102, 127, 173, "door"),
-}};
 
 // an empty slot: a box far away that no ray, segment or disc can reach
 constexpr double kFar = 1e7;
@@ -201,10 +179,18 @@ bool avx2_kernels() { return g_avx2; }
 
 void set_avx2_kernels(bool on) { g_avx2 = on && cpu_has_avx2(); }
 
-Arena::Arena() {
-    wall_count_ = static_cast<int>(kWalls.size());
+Arena::Arena() : Arena(paper_arena()) {}
+
+Arena::Arena(const ArenaSpec& spec) {
+    if (spec.walls.empty() || spec.walls.size() >= static_cast<std::size_t>(kSlots)) {
+        throw ConfigError(concat("an arena holds 1 to ", kSlots - 1, " walls and a door, got ", spec.walls.size(),
+                                 " walls"));
+    }
+    // the door comes last, so the open arena is the closed one minus its last box
+    wall_count_ = static_cast<int>(spec.walls.size()) + 1;
     door_index_ = wall_count_ - 1;
-    std::copy(kWalls.begin(), kWalls.end(), walls_.begin());
+    std::copy(spec.walls.begin(), spec.walls.end(), walls_.begin());
+    walls_[static_cast<std::size_t>(door_index_)] = spec.door;
     const WallBox far{kFar, kFar, kFar + 1.0, kFar + 1.0, "empty"};
     auto put = [](Slots& slots, std::size_t k, const WallBox& box) {
         slots.x0[k] = static_cast<float>(box.x0);

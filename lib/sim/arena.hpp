@@ -5,6 +5,7 @@
 #include <span>
 #include <string_view>
 
+#include "sim/arena_spec.hpp"
 #include "sim/robot.hpp"
 
 namespace stepstone::sim {
@@ -17,15 +18,6 @@ bool avx2_kernels();
 /// synchronised: call it only while no simulation runs.
 void set_avx2_kernels(bool on);
 
-/// An axis-aligned wall box [x0, x1) x [y0, y1), in units.
-struct WallBox {
-    double x0 = 0.0;
-    double y0 = 0.0;
-    double x1 = 0.0;
-    double y1 = 0.0;
-    std::string_view name;
-};
-
 /// Result of testing the robot disc against the walls.
 struct Contact {
     bool hit = false;    ///< the disc overlaps a wall
@@ -33,9 +25,9 @@ struct Contact {
     bool right = false;  ///< some overlapping wall lies at a bearing in (-pi/2, 0): input 10
 };
 
-/// The walls of the original arena (docs/original.md: arena), decoded from the
-/// 296 x 296 px bitmap: pixel i covers [(i - 0.5) 600/296, (i + 0.5) 600/296).
-/// Immutable; every query is const, allocation-free and thread-safe.
+/// The walls of an arena (ArenaSpec): its fixed walls, then its door. The
+/// default is the paper's (paper_arena(), decoded from the original's 296 x 296
+/// px bitmap). Immutable; every query is const, allocation-free and thread-safe.
 ///
 /// This is the hot-path geometry: the walls are kept in padded arrays (12 slots,
 /// the door's slot replaced by an unreachable box when it is open) so every
@@ -46,7 +38,10 @@ public:
     /// Number of slots in the padded arrays.
     static constexpr int kSlots = 12;
 
+    /// The paper's arena.
     Arena();
+    /// The walls and door of `spec` (validated: at most kSlots boxes).
+    explicit Arena(const ArenaSpec& spec);
 
     /// Every wall, the door included (its index is door_index()).
     std::span<const WallBox> walls() const { return {walls_.data(), static_cast<std::size_t>(wall_count_)}; }

@@ -4,7 +4,7 @@
 #include <array>
 #include <cmath>
 
-#include "sim/tasks/tasks.hpp"
+#include "sim/arena_spec.hpp"
 #include "sim/units.hpp"
 
 namespace stepstone::sim {
@@ -113,8 +113,8 @@ bool ScriptedController::follow(double speed, double tolerance, float* outputs) 
 
 ScriptedController::Point ScriptedController::ball_target() const {
     const int ball = kind_ == TaskKind::target ? 4 : kSourceBallOrder[static_cast<std::size_t>(next_ball_)];
-    const Light& light = tasks::kBalls[static_cast<std::size_t>(ball)];
-    return {light.x, light.y};
+    const sim::Point& at = paper_arena().balls[static_cast<std::size_t>(ball)];
+    return {at.x, at.y};
 }
 
 void ScriptedController::set_goal(Goal goal) {
@@ -149,10 +149,10 @@ void ScriptedController::step(const float* inputs, float* outputs) {
 
     switch (goal_) {
         case Goal::press_switch: {
-            if (route_.empty()) plan({tasks::kSwitch.x, tasks::kSwitch.y});
+            if (route_.empty()) plan({paper_arena().switch_light.x, paper_arena().switch_light.y});
             follow(3.0, 0.0, outputs);
             // the action applies at the current pose, so a press within reach succeeds now
-            if (distance(pose_, tasks::kSwitch.x, tasks::kSwitch.y) < kReach - 2.0) {
+            if (distance(pose_, paper_arena().switch_light.x, paper_arena().switch_light.y) < kReach - 2.0) {
                 outputs[2] = 1.0f;
                 set_goal(Goal::fetch_ball);
             }
@@ -177,7 +177,7 @@ void ScriptedController::step(const float* inputs, float* outputs) {
         case Goal::score: {
             outputs[2] = 1.0f;  // keep holding the ball
             if (!descending_) {
-                if (route_.empty()) plan({kBasketX, kBasketApproachY});
+                if (route_.empty()) plan({paper_arena().basket.centre.x, kBasketApproachY});
                 descending_ = follow(3.0, 6.0, outputs);
                 if (!descending_) return;
             }
@@ -189,7 +189,7 @@ void ScriptedController::step(const float* inputs, float* outputs) {
                 if (kind_ == TaskKind::source) ++next_ball_;
                 return;
             }
-            drive_to({kBasketX, 395.0}, pose_.y < 350.0 ? 3.0 : 1.0, outputs);
+            drive_to({paper_arena().basket.centre.x, 395.0}, pose_.y < 350.0 ? 3.0 : 1.0, outputs);
             pushing_ = outputs[0] > 0.5f && outputs[1] > 0.5f;
             return;
         }

@@ -124,7 +124,8 @@ void Episode::apply_action(float action) {
     if (action < 0.5f) {
         if (carrying_) {
             carrying_ = false;
-            if (within(pose_, kBasketX, kBasketY, kBasketRadius)) {
+            const Basket& basket = task_->basket();
+            if (within(pose_, basket.centre.x, basket.centre.y, basket.radius)) {
                 ++milestones_.basket_releases;
                 if (collided_) ++balls_;
             }

@@ -7,6 +7,8 @@ struct Pose {
     double x = 0.0;
     double y = 0.0;
     double heading = 0.0;
+
+    bool operator==(const Pose&) const = default;
 };
 
 /// Wraps an angle into (-pi, pi], radians.

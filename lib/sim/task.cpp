@@ -22,20 +22,20 @@ void TaskConfig::validate() const {
     if (starts < 1 || starts > 3) throw ConfigError(concat("starts must be in [1, 3], got ", starts));
     if (still_limit < 0) throw ConfigError(concat("still_limit must be >= 0, got ", still_limit));
     if (grid_period < 1) throw ConfigError(concat("grid_period must be >= 1, got ", grid_period));
+    if (arena) arena->validate();
 }
 
 Task::Task(const TaskConfig& config, std::vector<Light> lights, std::uint32_t initial_lit,
            bool door_starts_open, int switch_index, int spawn_ball_index)
     : config_(config),
+      arena_(config.arena_spec()),
       lights_(std::move(lights)),
       sight_(arena_, lights_),
       initial_lit_(initial_lit),
       door_starts_open_(door_starts_open),
       switch_index_(switch_index),
       spawn_ball_index_(spawn_ball_index),
-      // docs/original.md (objects): (195 + 405/4, 405/4, pi/4), (195 + 3*405/4, 3*405/4, -3pi/4), (195 +
-      // 405/4, 3*405/4, -pi/4)
-      start_poses_{{{296.25, 101.25, kPi / 4}, {498.75, 303.75, -3 * kPi / 4}, {296.25, 303.75, -kPi / 4}}} {}
+      start_poses_(config.arena_spec().starts) {}
 
 std::size_t Task::behaviour_size() const {
     return static_cast<std::size_t>(config_.steps_per_start) * static_cast<std::size_t>(kChannels);

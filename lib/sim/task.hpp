@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "sim/arena.hpp"
+#include "sim/arena_spec.hpp"
 #include "sim/robot.hpp"
 #include "sim/units.hpp"
 #include "sim/sensors.hpp"
@@ -33,8 +34,13 @@ struct TaskConfig {
     int starts = 3;              ///< number of starts, 1 to 3 (the three start poses, in order)
     int still_limit = 100;       ///< the evaluation ends when the cumulative still steps exceed this
     int grid_period = 50;        ///< steps between two diversity-grid samples of the first start
+    /// The arena (walls, door, balls, switch, basket, start poses); null: the paper's.
+    std::shared_ptr<const ArenaSpec> arena{};
 
-    /// Throws ConfigError naming the first field out of range.
+    /// The arena, the paper's when none is set.
+    const ArenaSpec& arena_spec() const { return arena ? *arena : paper_arena(); }
+
+    /// Throws ConfigError naming the first field out of range (the arena's included).
     void validate() const;
 };
 
@@ -45,6 +51,11 @@ public:
     /// Use make_task(); public for make_shared.
     Task(const TaskConfig& config, std::vector<Light> lights, std::uint32_t initial_lit, bool door_starts_open,
          int switch_index, int spawn_ball_index);
+
+    /// The arena's description (the paper's unless the config names one).
+    const ArenaSpec& arena_spec() const { return config_.arena_spec(); }
+    /// The basket: releases within its disc score.
+    const Basket& basket() const { return arena_spec().basket; }
 
     const TaskConfig& config() const { return config_; }
     TaskKind kind() const { return config_.kind; }
@@ -61,15 +72,16 @@ public:
     int switch_index() const { return switch_index_; }
     /// Ball lit by a switch press (target task), or -1 (source task: the press opens the door).
     int spawn_ball_index() const { return spawn_ball_index_; }
-    /// Start pose of start `index` (0-2), docs/original.md: objects.
+    /// Start pose of start `index` (0-2): the arena's (the paper's: docs/original.md, objects).
     const Pose& start_pose(int index) const { return start_poses_[static_cast<std::size_t>(index)]; }
 
     /// Floats in a behaviour matrix: steps_per_start x kChannels.
     std::size_t behaviour_size() const;
     /// Cells in a diversity trajectory: ceil(steps_per_start / grid_period) (80 by default).
     std::size_t cell_count() const;
-    /// Divisor of the reward: kBallsPerStart x starts (24 by default).
-    int reward_divisor() const { return kBallsPerStart * config_.starts; }
+    /// Divisor of the reward: the arena's balls x starts (8 x 3 = 24 by default, in both
+    /// tasks: the target task's one ball keeps the source's divisor, as the original).
+    int reward_divisor() const { return static_cast<int>(arena_spec().balls.size()) * config_.starts; }
 
 private:
     TaskConfig config_;

@@ -22,14 +22,8 @@ inline constexpr double kLaserRange = 320.0;
 inline constexpr double kLightWindow = kPi / 2 + 0.01;
 /// Distance below which the action output picks a ball or presses the switch, in units.
 inline constexpr double kReach = 20.0;
-/// Basket: a logical disc centred inside the bottom wall.
-inline constexpr double kBasketX = 296.25;
-inline constexpr double kBasketY = 405.0;
-inline constexpr double kBasketRadius = 33.75;
 /// A pose change below this (in units and in radians) counts as a still step.
 inline constexpr double kStillEpsilon = 1e-4;
-/// Balls per start in the reward's divisor (8 in both tasks, as the original).
-inline constexpr int kBallsPerStart = 8;
 /// Width of the map in units, and tiles per side of the diversity grid.
 inline constexpr double kMapSize = 600.0;
 inline constexpr int kGridTiles = 12;

@@ -59,6 +59,7 @@ TEST_CASE("wall pixels lie inside the wall boxes and floor pixels outside") {
     }
 
     // outside: random floor points clear of every wall, light, start pose and the basket
+    const sim::Basket& basket = task->basket();
     std::mt19937 rng(11);
     std::uniform_real_distribution<double> ux(0.0, 600.0), uy(0.0, 400.0);
     int floor_points = 0;
@@ -71,7 +72,7 @@ TEST_CASE("wall pixels lie inside the wall boxes and floor pixels outside") {
             const auto& pose = task->start_pose(s);
             clear = clear && std::hypot(pose.x - x, pose.y - y) > 2.0 * sim::kRobotRadius;
         }
-        clear = clear && std::hypot(sim::kBasketX - x, sim::kBasketY - y) > sim::kBasketRadius + 3.0;
+        clear = clear && std::hypot(basket.centre.x - x, basket.centre.y - y) > basket.radius + 3.0;
         if (!clear) continue;
         CAPTURE(x, y);
         CHECK(pixel(x, y) == rgb(kFloor));

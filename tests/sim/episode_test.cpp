@@ -115,7 +115,7 @@ TEST_CASE("a release pressed against the bottom wall under the lights scores", "
     Episode episode(*task);
     episode.begin_start(0);
     // facing down, 20.06 above the bottom face at the basket's x: a full-speed step collides
-    episode.set_pose({kBasketX, kBottomFace - 20.06, kPi / 2});
+    episode.set_pose({paper_arena().basket.centre.x, kBottomFace - 20.06, kPi / 2});
     episode.set_carrying(true);
     act(episode, 1.0f, 1.0f, 1.0f);
     REQUIRE(episode.collided());
@@ -145,7 +145,7 @@ TEST_CASE("a release near the basket without a prior collision does not score", 
     Episode episode(*task);
     episode.begin_start(0);
     // 30.80 from the basket centre but no wall touched in this start
-    episode.set_pose({kBasketX, kBottomFace - 20.06, 0.0});
+    episode.set_pose({paper_arena().basket.centre.x, kBottomFace - 20.06, 0.0});
     episode.set_carrying(true);
     act(episode, 0.5f, 0.5f, 0.0f);
     CHECK(episode.balls() == 0);

@@ -29,7 +29,7 @@ void hold(Episode& episode, float action, int steps) {
 // against the bottom wall under the basket: a full-speed step down collides
 // (sets the sticky flag) and leaves the centre 30.80 from the basket centre
 void collide_at_basket(Episode& episode, float action) {
-    episode.set_pose({kBasketX, kBottomFace - 20.06, kPi / 2});
+    episode.set_pose({paper_arena().basket.centre.x, kBottomFace - 20.06, kPi / 2});
     act(episode, 1.0f, 1.0f, action);
 }
 
@@ -62,7 +62,7 @@ TEST_CASE("source task: presses, pickups, carried steps and basket releases coun
     // in this start: a basket release that does not score
     episode.set_pose({397.5, 69.625, 0.0});
     hold(episode, 1.0f, 3);  // carry steps 11, 12, 13
-    episode.set_pose({kBasketX, kBottomFace - 20.06, 0.0});
+    episode.set_pose({paper_arena().basket.centre.x, kBottomFace - 20.06, 0.0});
     hold(episode, 0.0f, 1);
     CHECK(episode.milestones().basket_releases == 1);
     CHECK(episode.balls() == 0);

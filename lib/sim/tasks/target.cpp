@@ -1,15 +1,17 @@
 // The target task (collectball's VARIANT_SW2, docs/original.md: objects): the door is
-// open throughout, the only ball sits unlit at the top-left position (97.5,
-// 50.625) and each switch press lights it; the switch re-arms 100 steps later.
+// open throughout, the only ball sits unlit at the arena's target_ball position
+// (the paper's: top left, (97.5, 50.625)) and each switch press lights it; the
+// switch re-arms 100 steps later.
 
 #include "sim/tasks/tasks.hpp"
 
 namespace stepstone::sim::tasks {
 
 std::shared_ptr<const Task> make_target_task(const TaskConfig& config) {
-    std::vector<Light> lights{kBalls[4]};
-    lights.insert(lights.end(), kBasketLights.begin(), kBasketLights.end());
-    lights.push_back(kSwitch);
+    const ArenaSpec& arena = config.arena_spec();
+    const Point& ball = arena.balls[arena.target_ball];
+    std::vector<Light> lights{{LightKind::ball, ball.x, ball.y}};
+    append_basket_and_switch(arena, lights);
     const auto count = static_cast<int>(lights.size());
     // the ball (bit 0) starts off; basket lights and switch on
     const std::uint32_t lit = ((1u << count) - 1u) & ~1u;
