@@ -17,6 +17,7 @@
 #include "core/text.hpp"
 #include "exp/evaluation.hpp"
 #include "nn/genome.hpp"
+#include "sim/arena_spec.hpp"
 #include "sim/episode.hpp"
 #include "sim/task.hpp"
 
@@ -163,10 +164,18 @@ void bind_sim(py::module_& m) {
 'source': collect balls; a switch opens the door to the second room.
 'target': the door is open; each switch press lights one ball, re-armed after 100 steps.
 The defaults are the paper's: 3 starts of 4000 steps, the stand-still rule at 100 steps.
-The keys are those of a run config's "task" object, so Task(**run.config["task"]) rebuilds a run's task.)")
+The keys are those of a run config's "task" object, so Task(**run.config["task"]) rebuilds a run's task,
+its arena included.)")
         .def(py::init([](const std::string& kind, int steps_per_start, int starts, int still_limit,
-                         int grid_period) {
+                         int grid_period, const py::object& arena) {
                  sim::TaskConfig config;
+                 if (py::isinstance<py::str>(arena)) {
+                     config.arena = std::make_shared<const sim::ArenaSpec>(
+                         sim::ArenaSpec::load(arena.cast<std::string>()));
+                 } else if (!arena.is_none()) {
+                     config.arena = std::make_shared<const sim::ArenaSpec>(
+                         sim::ArenaSpec::from_json(nlohmann::json::parse(json_text(arena)), "arena"));
+                 }
                  config.kind = sim::parse_task_kind(kind, "kind");
                  config.steps_per_start = steps_per_start;
                  config.starts = starts;
@@ -175,8 +184,11 @@ The keys are those of a run config's "task" object, so Task(**run.config["task"]
                  return PyTask{sim::make_task(config)};
              }),
              py::arg("kind") = "source", py::arg("steps_per_start") = 4000, py::arg("starts") = 3,
-             py::arg("still_limit") = 100, py::arg("grid_period") = 50,
-             "Builds a task; raises ConfigError naming the first value out of range.")
+             py::arg("still_limit") = 100, py::arg("grid_period") = 50, py::arg("arena") = py::none(),
+             "Builds a task; raises ConfigError naming the first value out of range. `arena` is an arena "
+             "file's path or an arena as a dict (docs/simulator.md); default: the paper's.")
+        .def_property_readonly("arena", [](const PyTask& t) { return json_loads(t.task->arena_spec().to_json().dump()); },
+                               "the arena, as a dict in the format of an arena file")
         .def_property_readonly("kind", [](const PyTask& t) { return std::string(sim::to_string(t.task->kind())); })
         .def_property_readonly("steps_per_start", [](const PyTask& t) { return t.task->config().steps_per_start; })
         .def_property_readonly("starts", [](const PyTask& t) { return t.task->config().starts; })
@@ -189,6 +201,10 @@ The keys are those of a run config's "task" object, so Task(**run.config["task"]
             return concat("<stepstone.Task ", sim::to_string(c.kind), ": ", c.starts, " starts of ",
                           c.steps_per_start, " steps>");
         });
+
+    m.def(
+        "paper_arena", [] { return json_loads(sim::paper_arena().to_json().dump()); },
+        "The paper's arena (the default of every task) as a dict in the format of an arena file.");
 
     m.def("evaluate", &evaluate, py::arg("task"), py::arg("genome"), py::arg("dnn") = py::none(),
           R"(One evaluation of a genome (a dict, or the JSON text a run stores) on `task` with the network

@@ -3,6 +3,8 @@ wrote: a run's stored rows and rewards (read with Python's sqlite3) and the
 per-step CSV of `stepstone simulate`."""
 
 import csv
+import json
+import os
 import sqlite3
 import tempfile
 import unittest
@@ -44,6 +46,25 @@ class Simulator(TempCase):
                                       np.array([[r[c] for c in OUTPUTS] for r in rows[:300]], dtype=np.float32))
         with self.assertRaisesRegex(ValueError, "the episode is over"):
             episode.step([0, 0, 0])
+
+    def test_an_arena_from_a_file_or_a_dict(self):
+        here = os.path.dirname(os.path.abspath(__file__))
+        path = os.path.join(here, "..", "..", "examples", "arenas", "two_rooms.json")
+        by_file = stepstone.Task("target", steps_per_start=200, starts=1, arena=path)
+        with open(path) as f:
+            arena = json.load(f)
+        self.assertEqual(by_file.arena["target_ball"], 5)
+        self.assertEqual(by_file.arena["walls"][6]["box"], [430, 120, 470, 200])
+        by_dict = stepstone.Task("target", steps_per_start=200, starts=1, arena=arena)
+        genome = stepstone.random_genome(4)
+        a, b = stepstone.evaluate(by_file, genome), stepstone.evaluate(by_dict, genome)
+        np.testing.assert_array_equal(a["behaviour"], b["behaviour"])
+        paper = stepstone.evaluate(stepstone.Task("target", steps_per_start=200, starts=1), genome)
+        self.assertFalse(np.array_equal(a["behaviour"], paper["behaviour"]), "another arena, other sensor values")
+        self.assertEqual(stepstone.Task().arena, stepstone.paper_arena())
+        arena["starts"][0] = [440, 205, 0]
+        with self.assertRaisesRegex(stepstone.ConfigError, r"starts\[0\]: .* inside the wall 'pillar'"):
+            stepstone.Task(arena=arena)
 
     def test_bad_input(self):
         episode = stepstone.Episode(stepstone.Task("source", steps_per_start=10, starts=1))

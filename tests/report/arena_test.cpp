@@ -35,10 +35,16 @@ double box_distance(const sim::WallBox& w, double x, double y) {
 
 }  // namespace
 
-TEST_CASE("wall pixels lie inside the wall boxes and floor pixels outside") {
-    sim::TaskConfig config;
-    const auto task = sim::make_task(config);  // the source task: door closed
-    const ArenaLayout layout;
+TEST_CASE("wall pixels lie inside the wall boxes and floor pixels outside, in any arena") {
+    sim::TaskConfig config;  // the source task: door closed
+    const bool second = GENERATE(false, true);
+    if (second) {
+        config.arena = std::make_shared<const sim::ArenaSpec>(sim::ArenaSpec::load(
+            std::filesystem::path(STEPSTONE_SOURCE_DIR) / "examples" / "arenas" / "two_rooms.json"));
+    }
+    CAPTURE(config.arena_spec().name);
+    const auto task = sim::make_task(config);
+    const ArenaLayout layout = ArenaLayout::fit(config.arena_spec());
     const auto image = draw(*task, false, layout);
     const auto walls = task->arena().walls();
     const auto pixel = [&](double x, double y) {
