@@ -226,7 +226,7 @@ void bind_kb(py::module_& m) {
         .def_readonly("averages", &PyLookup::averages, "float64 array: its average reward (0 for none)")
         .def_readonly("r_max", &PyLookup::r_max,
                       "the largest average among the segments, a segment without a match counting 0")
-        .def("__len__", [](const PyLookup& l) { return l.ids.size(); })
+        .def("__len__", [](const PyLookup& l) { return l.ids.size(); }, "the number of policy segments")
         .def("__repr__", [](const PyLookup& l) {
             return concat("<stepstone.Lookup: ", l.ids.size(), " segments, r_max ", shortest(l.r_max), ">");
         });
@@ -328,7 +328,7 @@ Every answer is exact and independent of threads.
                                "the seed of a randomized KB, else None")
         .def_property_readonly("max_average", [](const PyKb& s) { return s.kb.max_average(); },
                                "the largest average reward (0 if empty): the `sum` treatment's normaliser")
-        .def("__len__", [](const PyKb& s) { return s.kb.size(); })
+        .def("__len__", [](const PyKb& s) { return s.kb.size(); }, "the number of segments")
         .def("__repr__", &repr);
 
     m.def("_time_lookups", &time_lookups, py::arg("kb"), py::arg("behaviours"), py::arg("r_max_only") = false,

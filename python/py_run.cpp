@@ -194,18 +194,20 @@ void bind_run(py::module_& m) {
         .def(py::init(&open_run), py::arg("path"),
              "Opens a run file read-only. Raises DatabaseError naming the file when it is missing, foreign, "
              "or holds no run.")
-        .def_property_readonly("path", [](const PyRun& r) { return r.path; })
-        .def_property_readonly("id", [](const PyRun& r) { return r.run.id; })
+        .def_property_readonly("path", [](const PyRun& r) { return r.path; }, "the run file, as given")
+        .def_property_readonly("id", [](const PyRun& r) { return r.run.id; }, "the run's id in its file")
         .def_property_readonly("task", [](const PyRun& r) { return r.run.task; }, "'source' or 'target'")
         .def_property_readonly("treatment", [](const PyRun& r) { return r.run.treatment; },
                                "none, sum, mo, sum-rand or mo-rand")
-        .def_property_readonly("seed", [](const PyRun& r) { return r.run.seed; })
+        .def_property_readonly("seed", [](const PyRun& r) { return r.run.seed; }, "the run seed")
         .def_property_readonly("status", [](const PyRun& r) { return std::string(exp::to_string(r.run.status)); },
                                "'running' or 'finished'")
-        .def_property_readonly("generations_asked", [](const PyRun& r) { return r.run.generations; })
+        .def_property_readonly("generations_asked", [](const PyRun& r) { return r.run.generations; },
+                               "epochs asked for after generation 0")
         .def_property_readonly("generations_done", [](const PyRun& r) { return r.run.generations_done; },
                                "the last committed generation (-1: none yet)")
-        .def_property_readonly("evaluations", [](const PyRun& r) { return r.run.evaluations; })
+        .def_property_readonly("evaluations", [](const PyRun& r) { return r.run.evaluations; },
+                               "evaluations run so far")
         .def_property_readonly("config", [](const PyRun& r) { return json_loads(r.run.config.dump()); },
                                "the effective config as stored (a dict): task, dnn, ea, kb, transfer, seed")
         .def("generations", &generations,

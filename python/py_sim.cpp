@@ -189,11 +189,16 @@ its arena included.)")
              "file's path or an arena as a dict (docs/simulator.md); default: the paper's.")
         .def_property_readonly("arena", [](const PyTask& t) { return json_loads(t.task->arena_spec().to_json().dump()); },
                                "the arena, as a dict in the format of an arena file")
-        .def_property_readonly("kind", [](const PyTask& t) { return std::string(sim::to_string(t.task->kind())); })
-        .def_property_readonly("steps_per_start", [](const PyTask& t) { return t.task->config().steps_per_start; })
-        .def_property_readonly("starts", [](const PyTask& t) { return t.task->config().starts; })
-        .def_property_readonly("still_limit", [](const PyTask& t) { return t.task->config().still_limit; })
-        .def_property_readonly("grid_period", [](const PyTask& t) { return t.task->config().grid_period; })
+        .def_property_readonly("kind", [](const PyTask& t) { return std::string(sim::to_string(t.task->kind())); },
+                               "'source' or 'target'")
+        .def_property_readonly("steps_per_start", [](const PyTask& t) { return t.task->config().steps_per_start; },
+                               "steps of each start")
+        .def_property_readonly("starts", [](const PyTask& t) { return t.task->config().starts; },
+                               "starts of an evaluation, 1 to 3 (the arena's start poses in order)")
+        .def_property_readonly("still_limit", [](const PyTask& t) { return t.task->config().still_limit; },
+                               "the evaluation ends when the cumulative still steps exceed this")
+        .def_property_readonly("grid_period", [](const PyTask& t) { return t.task->config().grid_period; },
+                               "steps between two samples of the diversity trajectory")
         .def_property_readonly("reward_divisor", [](const PyTask& t) { return t.task->reward_divisor(); },
                                "reward = balls / reward_divisor (8 balls per start)")
         .def("__repr__", [](const PyTask& t) {
@@ -243,17 +248,18 @@ stand-still rule ending the whole episode. Outputs are clamped to [0, 1] (NaN co
         .def("finish", &PyEpisode::finish,
              "The result: reward, balls, steps, nan_outputs, milestones, stopped_early and, when recorded, the "
              "first start's behaviour matrix.")
-        .def_property_readonly("done", &PyEpisode::done)
+        .def_property_readonly("done", &PyEpisode::done, "True once the last step ran or the robot stood still too long")
         .def_property_readonly("start", [](const PyEpisode& e) { return e.episode().start(); },
                                "the current start (0 to starts - 1)")
-        .def_property_readonly("step_in_start", &PyEpisode::step_in_start)
+        .def_property_readonly("step_in_start", &PyEpisode::step_in_start, "steps run in the current start")
         .def_property_readonly("pose", [](const PyEpisode& e) {
             const auto& pose = e.episode().pose();
             return py::make_tuple(pose.x, pose.y, pose.heading);
         }, "(x, y, heading) in pixels and radians")
-        .def_property_readonly("balls", [](const PyEpisode& e) { return e.episode().balls(); })
-        .def_property_readonly("carrying", [](const PyEpisode& e) { return e.episode().carrying(); })
-        .def_property_readonly("door_open", [](const PyEpisode& e) { return e.episode().door_open(); });
+        .def_property_readonly("balls", [](const PyEpisode& e) { return e.episode().balls(); }, "balls scored so far, all starts")
+        .def_property_readonly("carrying", [](const PyEpisode& e) { return e.episode().carrying(); }, "whether the robot carries a ball")
+        .def_property_readonly("door_open", [](const PyEpisode& e) { return e.episode().door_open(); },
+                               "whether the door is open (the target task: always)");
 }
 
 }  // namespace stepstone::python

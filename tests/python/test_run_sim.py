@@ -158,5 +158,23 @@ class Runs(unittest.TestCase):
             self.stored.replay(2.5)
 
 
+class Docs(unittest.TestCase):
+    def test_every_public_name_has_a_docstring(self):
+        import inspect
+        missing = []
+        for name, obj in vars(stepstone).items():
+            if name.startswith("__"):
+                continue
+            if not (obj.__doc__ or "").strip():
+                missing.append(name)
+            if inspect.isclass(obj):
+                for attribute, value in vars(obj).items():
+                    if attribute.startswith("_") and attribute not in ("__init__", "__len__"):
+                        continue
+                    if not (getattr(value, "__doc__", None) or "").strip():
+                        missing.append(f"{name}.{attribute}")
+        self.assertEqual(missing, [])
+
+
 if __name__ == "__main__":
     unittest.main()
