@@ -10,6 +10,8 @@ import sys
 
 import numpy as np
 
+from segments import decode
+
 GROUPS = {"lasers (0-2)": [0, 1, 2], "ball/basket/switch lights (3-8)": [3, 4, 5, 6, 7, 8],
           "bumpers (9-10)": [9, 10], "carrying (11)": [11], "outputs (12-14)": [12, 13, 14]}
 
@@ -23,7 +25,8 @@ def main():
     rows = con.execute("SELECT first_generation, segment_values FROM kb_segment WHERE kb_id = ? ORDER BY id",
                        (kb_id,)).fetchall()
     gens = np.array([r[0] for r in rows])
-    values = np.frombuffer(b"".join(r[1] for r in rows), dtype="<f4").reshape(len(rows), width, channels)
+    values = np.array([decode(r[1], width, channels) for r in rows], dtype=np.float32).reshape(
+        len(rows), width, channels)
     before = values[gens < gen].astype(np.float64)
     new = values[gens == gen].astype(np.float64)
     rng = np.random.default_rng(1)

@@ -5,9 +5,10 @@ per-channel ranges and the spread of average rewards.
 Usage: kb_profile.py FILE.db [KB_NAME]   (Python 3 standard library only)
 """
 import sqlite3
-import struct
 import sys
 from collections import Counter
+
+from segments import decode
 
 
 def main():
@@ -31,7 +32,7 @@ def main():
             "SELECT cum_reward, count, segment_values, first_generation FROM kb_segment WHERE kb_id = ?",
             (kb_id,)):
         n += 1
-        values = struct.unpack(f"<{width * channels}f", blob)
+        values = decode(blob, width, channels)
         rows = [values[r * channels:(r + 1) * channels] for r in range(width)]
         if all(row == rows[0] for row in rows):
             constant += 1

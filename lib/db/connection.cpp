@@ -1,5 +1,7 @@
 #include "db/connection.hpp"
 
+#include "db/segment_codec.hpp"
+
 #include <sqlite3.h>
 
 #include <utility>
@@ -28,6 +30,7 @@ Connection::Connection(const std::filesystem::path& path, OpenMode mode, std::st
     }
     sqlite3_extended_result_codes(db_, 1);
     sqlite3_busy_timeout(db_, 10000);
+    register_segment_functions(db_);
     exec("PRAGMA foreign_keys = ON");
 }
 

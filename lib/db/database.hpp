@@ -20,7 +20,8 @@ int latest_schema_version();
 /// The oldest schema version a read-only open accepts without `allow_older`:
 /// every later migration only adds nullable columns that read as NULL
 /// (0005: the individuals' milestones), so readers that check for them
-/// (has_milestones) read these files as they are.
+/// (has_milestones) read these files as they are, or a second stored form that
+/// readers tell apart by its length (0006: packed KB segments, segment_codec.hpp).
 inline constexpr int kOldestReadableVersion = 4;
 
 /// One numbered migration of schema/.

@@ -6,14 +6,11 @@
 #include "core/error.hpp"
 #include "core/text.hpp"
 #include "db/database.hpp"
+#include "db/segment_codec.hpp"
 
 namespace stepstone::db {
 
 namespace {
-
-std::span<const std::byte> as_bytes(std::span<const float> values) {
-    return {reinterpret_cast<const std::byte*>(values.data()), values.size() * sizeof(float)};
-}
 
 void write_sources(Connection& connection, std::int64_t kb_id, const kb::KnowledgeBase& kb) {
     auto upsert = connection.prepare(sql("kb/upsert_source.sql"));
@@ -32,6 +29,8 @@ void write_sources(Connection& connection, std::int64_t kb_id, const kb::Knowled
 
 void write_segment(Statement& upsert, std::int64_t kb_id, const kb::KnowledgeBase& kb, std::size_t id) {
     const auto& record = kb.record(id);
+    const auto& params = kb.params();
+    const std::vector<std::byte> stored = pack_segment(kb.segment(id), params.segment_width, params.channels);
     upsert.reset();
     upsert.bind(":kb_id", kb_id)
         .bind(":id", static_cast<std::int64_t>(id))
@@ -41,7 +40,7 @@ void write_segment(Statement& upsert, std::int64_t kb_id, const kb::KnowledgeBas
         .bind(":first_generation", record.first.generation)
         .bind(":last_source", static_cast<std::int64_t>(record.last.source))
         .bind(":last_generation", record.last.generation)
-        .bind_blob(":segment_values", as_bytes(kb.segment(id)))
+        .bind_blob(":segment_values", stored)
         .run();
 }
 
@@ -169,13 +168,13 @@ StoredKb load_kb(Connection& connection, const std::string& name) {
         if (!std::isfinite(record.cum_reward)) {
             throw bad(concat("has a non-finite cum_reward (", shortest(record.cum_reward), ")"));
         }
-        if (blob.size() != dim * sizeof(float)) {
-            throw bad(concat("holds ", blob.size(), " value bytes, expected ", dim * sizeof(float)));
-        }
         record.count = static_cast<std::uint64_t>(count);
         const std::size_t offset = values.size();
         values.resize(offset + dim);
-        std::memcpy(values.data() + offset, blob.data(), blob.size());
+        if (!unpack_segment(blob, params.segment_width, params.channels, std::span<float>(values).subspan(offset))) {
+            throw bad(concat("holds ", blob.size(), " value bytes: neither ", dim * sizeof(float),
+                             " bytes of float32 nor a packed segment"));
+        }
         records.push_back(record);
     }
 

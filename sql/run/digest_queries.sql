@@ -14,7 +14,9 @@ SELECT run_id, generation, state FROM checkpoint ORDER BY run_id
 ;
 SELECT name, segment_width, channels, delta, match, randomized_seed FROM kb ORDER BY id;
 SELECT kb_id, source, run, first_generation, last_generation, policies FROM kb_source ORDER BY kb_id, source;
-SELECT kb_id, id, cum_reward, count, first_source, first_generation, last_source, last_generation, segment_values
-FROM kb_segment ORDER BY kb_id, id;
+-- segment values as float32 whatever their stored form (raw or packed, docs/schema.md)
+SELECT s.kb_id, s.id, s.cum_reward, s.count, s.first_source, s.first_generation, s.last_source, s.last_generation,
+       segment_floats(s.segment_values, k.segment_width, k.channels)
+FROM kb_segment AS s JOIN kb AS k ON k.id = s.kb_id ORDER BY s.kb_id, s.id;
 SELECT run_id, individual_id, kb_id, segment, kb_segment_id, distance, average_reward
 FROM policy_segment ORDER BY run_id, individual_id, kb_id, segment

@@ -90,7 +90,7 @@ TEST_CASE("a malformed stored segment is refused with the KB named", "[db][kb][e
     connection.exec("UPDATE kb_segment SET segment_values = x'0000' WHERE id = 1");
     // each problem named as it is: the byte count, then an infinite sum
     CHECK_THROWS_WITH(db::load_kb(connection),
-                      Contains("bad.db: knowledge base \"run\" segment 1 holds 2 value bytes, expected"));
+                      Contains("bad.db: knowledge base \"run\" segment 1 holds 2 value bytes: neither"));
     // (a count below 1 the schema's CHECK constraint refuses to store)
     connection.exec(
         "UPDATE kb_segment SET segment_values = (SELECT segment_values FROM kb_segment WHERE id = 0), "

@@ -59,6 +59,28 @@ def write_run(folder, config=TINY_SOURCE, seed=1, name="run.db"):
     return db
 
 
+def decode_segment(blob, width, channels):
+    """A stored segment as a (width, channels) float32 array, decoded here from
+    the format docs/schema.md describes (raw float32, or packed behind 'P')."""
+    if len(blob) == width * channels * 4:
+        return np.frombuffer(blob, dtype="<f4").reshape(width, channels)
+    assert blob[0:1] == b"P", "neither raw nor packed"
+    mask_bytes, step_bytes = (channels + 7) // 8, (width + 7) // 8
+    binary = [bool(blob[1 + c // 8] >> (c % 8) & 1) for c in range(channels)]
+    out = np.zeros((width, channels), dtype=np.float32)
+    at = 1 + mask_bytes
+    for c in range(channels):
+        if binary[c]:
+            out[:, c] = [blob[at + r // 8] >> (r % 8) & 1 for r in range(width)]
+            at += step_bytes
+    for c in range(channels):
+        if not binary[c]:
+            out[:, c] = np.frombuffer(blob[at:at + 4 * width], dtype="<f4")
+            at += 4 * width
+    assert at == len(blob)
+    return out
+
+
 def stored_kb(path, name=None):
     """A KB as the file holds it, read with Python's sqlite3 (not the library):
     (segments as a float32 array (n, width, channels), cum_reward, count)."""
@@ -73,5 +95,5 @@ def stored_kb(path, name=None):
                            (kb_id,)).fetchall()
     finally:
         con.close()
-    segments = np.array([np.frombuffer(r[0], dtype="<f4") for r in rows]).reshape(len(rows), width, channels)
+    segments = np.array([decode_segment(r[0], width, channels) for r in rows]).reshape(len(rows), width, channels)
     return segments, np.array([r[1] for r in rows]), np.array([r[2] for r in rows])
