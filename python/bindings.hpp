@@ -10,6 +10,10 @@
 #include <span>
 #include <string>
 
+namespace stepstone::sim {
+struct Milestones;
+}
+
 namespace stepstone::python {
 
 namespace py = pybind11;
@@ -27,6 +31,9 @@ std::span<const float> behaviour_values(const FloatArray& behaviour, std::size_t
 
 /// A fresh (rows x columns) float32 array holding a copy of `values`.
 py::array_t<float> matrix_copy(std::span<const float> values, std::size_t columns);
+
+/// {presses, pickups, carry_steps, basket_releases} of an evaluation.
+py::dict milestones_dict(const sim::Milestones& milestones);
 
 /// json.loads(text): a Python object from a JSON document.
 py::object json_loads(const std::string& text);

@@ -8,6 +8,7 @@
 #include "core/error.hpp"
 #include "core/text.hpp"
 #include "core/version.hpp"
+#include "sim/episode.hpp"
 
 namespace stepstone::python {
 
@@ -27,6 +28,15 @@ py::array_t<float> matrix_copy(std::span<const float> values, std::size_t column
     const auto rows = static_cast<py::ssize_t>(columns == 0 ? 0 : values.size() / columns);
     py::array_t<float> out({rows, static_cast<py::ssize_t>(columns)});
     std::copy(values.begin(), values.end(), out.mutable_data());
+    return out;
+}
+
+py::dict milestones_dict(const sim::Milestones& m) {
+    py::dict out;
+    out["presses"] = m.presses;
+    out["pickups"] = m.pickups;
+    out["carry_steps"] = m.carry_steps;
+    out["basket_releases"] = m.basket_releases;
     return out;
 }
 

@@ -75,51 +75,52 @@ T narrow(std::int64_t value) {
     return static_cast<T>(value);
 }
 
-py::array_t<IndividualRec> individuals(const PyRun& self, std::optional<int> generation) {
-    std::vector<IndividualRec> rows;
+// the rows of `sql` (?1: the run's id, further parameters bound by `bind`) as a structured array
+template <class Rec, class Bind, class Row>
+py::array_t<Rec> table(const PyRun& self, const char* sql, Bind&& bind, Row&& row) {
+    std::vector<Rec> rows;
     {
         py::gil_scoped_release release;
-        db::Statement query(*self.connection,
-                            "SELECT id, generation, parent_id, reward, fitness, diversity, shaping, balls, steps, "
-                            "presses, pickups, carry_steps, basket_releases FROM individual WHERE run_id = ?1 "
-                            "AND (?2 IS NULL OR generation = ?2) ORDER BY id");
+        db::Statement query(*self.connection, sql);
         query.bind(1, self.run.id);
-        query.bind(2, generation);
-        while (query.step()) {
-            rows.push_back(IndividualRec{
-                query.column_int(0), narrow<std::int32_t>(query.column_int(1)), int_or(query, 2, -1),
-                query.column_double(3), query.column_double(4), query.column_double(5),
-                query.is_null(6) ? std::numeric_limits<double>::quiet_NaN() : query.column_double(6),
-                narrow<std::int32_t>(query.column_int(7)), query.column_int(8),
-                narrow<std::int32_t>(int_or(query, 9, -1)), narrow<std::int32_t>(int_or(query, 10, -1)),
-                int_or(query, 11, -1), narrow<std::int32_t>(int_or(query, 12, -1))});
-        }
+        bind(query);
+        while (query.step()) rows.push_back(row(query));
     }
-    py::array_t<IndividualRec> out(static_cast<py::ssize_t>(rows.size()));
+    py::array_t<Rec> out(static_cast<py::ssize_t>(rows.size()));
     std::copy(rows.begin(), rows.end(), out.mutable_data());
     return out;
 }
 
+py::array_t<IndividualRec> individuals(const PyRun& self, std::optional<int> generation) {
+    return table<IndividualRec>(
+        self,
+        "SELECT id, generation, parent_id, reward, fitness, diversity, shaping, balls, steps, presses, pickups, "
+        "carry_steps, basket_releases FROM individual WHERE run_id = ?1 AND (?2 IS NULL OR generation = ?2) "
+        "ORDER BY id",
+        [&](db::Statement& query) { query.bind(2, generation); },
+        [](const db::Statement& q) {
+            return IndividualRec{q.column_int(0), narrow<std::int32_t>(q.column_int(1)), int_or(q, 2, -1),
+                                 q.column_double(3), q.column_double(4), q.column_double(5),
+                                 q.is_null(6) ? std::numeric_limits<double>::quiet_NaN() : q.column_double(6),
+                                 narrow<std::int32_t>(q.column_int(7)), q.column_int(8),
+                                 narrow<std::int32_t>(int_or(q, 9, -1)), narrow<std::int32_t>(int_or(q, 10, -1)),
+                                 int_or(q, 11, -1), narrow<std::int32_t>(int_or(q, 12, -1))};
+        });
+}
+
 py::array_t<GenerationRec> generations(const PyRun& self) {
-    std::vector<GenerationRec> rows;
-    {
-        py::gil_scoped_release release;
-        db::Statement query(*self.connection,
-                            "SELECT generation, best_reward, mean_reward, median_reward, diversity_min, "
-                            "diversity_max, evaluations, wall_time, time_simulation, time_kb, time_diversity, "
-                            "time_selection, time_database FROM generation WHERE run_id = ?1 ORDER BY generation");
-        query.bind(1, self.run.id);
-        while (query.step()) {
-            rows.push_back(GenerationRec{narrow<std::int32_t>(query.column_int(0)), query.column_double(1),
-                                         query.column_double(2), query.column_double(3), query.column_double(4),
-                                         query.column_double(5), query.column_int(6), query.column_double(7),
-                                         query.column_double(8), query.column_double(9), query.column_double(10),
-                                         query.column_double(11), query.column_double(12)});
-        }
-    }
-    py::array_t<GenerationRec> out(static_cast<py::ssize_t>(rows.size()));
-    std::copy(rows.begin(), rows.end(), out.mutable_data());
-    return out;
+    return table<GenerationRec>(
+        self,
+        "SELECT generation, best_reward, mean_reward, median_reward, diversity_min, diversity_max, evaluations, "
+        "wall_time, time_simulation, time_kb, time_diversity, time_selection, time_database FROM generation "
+        "WHERE run_id = ?1 ORDER BY generation",
+        [](db::Statement&) {},
+        [](const db::Statement& q) {
+            return GenerationRec{narrow<std::int32_t>(q.column_int(0)), q.column_double(1), q.column_double(2),
+                                 q.column_double(3), q.column_double(4), q.column_double(5), q.column_int(6),
+                                 q.column_double(7), q.column_double(8), q.column_double(9), q.column_double(10),
+                                 q.column_double(11), q.column_double(12)};
+        });
 }
 
 py::object frame(const py::array& table) {
@@ -154,12 +155,7 @@ py::dict replay(const PyRun& self, const py::object& individual) {
     out["reward"] = facts.result.reward;
     out["balls"] = facts.result.balls;
     out["steps"] = facts.result.steps_run;
-    py::dict milestones;
-    milestones["presses"] = facts.result.milestones.presses;
-    milestones["pickups"] = facts.result.milestones.pickups;
-    milestones["carry_steps"] = facts.result.milestones.carry_steps;
-    milestones["basket_releases"] = facts.result.milestones.basket_releases;
-    out["milestones"] = milestones;
+    out["milestones"] = milestones_dict(facts.result.milestones);
     out["behaviour"] = matrix_copy(behaviour, sim::kChannels);
     return out;
 }

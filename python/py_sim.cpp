@@ -29,15 +29,6 @@ struct PyTask {
     std::shared_ptr<const sim::Task> task;
 };
 
-py::dict milestones_dict(const sim::Milestones& m) {
-    py::dict out;
-    out["presses"] = m.presses;
-    out["pickups"] = m.pickups;
-    out["carry_steps"] = m.carry_steps;
-    out["basket_releases"] = m.basket_releases;
-    return out;
-}
-
 py::dict result_dict(double reward, int balls, long steps, int nan_outputs, const sim::Milestones& milestones) {
     py::dict out;
     out["reward"] = reward;
