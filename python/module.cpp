@@ -14,8 +14,8 @@ namespace stepstone::python {
 
 std::span<const float> behaviour_values(const FloatArray& behaviour, std::size_t channels, const char* what) {
     if (behaviour.ndim() != 2) {
-        throw py::value_error(concat(what, " must be a (steps x channels) matrix, got ", behaviour.ndim(),
-                                     " dimension(s)"));
+        throw py::value_error(
+            concat(what, " must be a (steps x channels) matrix, got ", behaviour.ndim(), " dimension(s)"));
     }
     if (static_cast<std::size_t>(behaviour.shape(1)) != channels) {
         throw py::value_error(concat(what, " has ", behaviour.shape(1), " columns, the knowledge base has ",
@@ -68,7 +68,8 @@ Files are the SQLite files the `stepstone` command reads and writes.)";
     static py::exception<stepstone::ConfigError> config_error(m, "ConfigError", error.ptr());
     static py::exception<stepstone::DataError> data_error(m, "DataError", error.ptr());
     static py::exception<stepstone::DatabaseError> database_error(m, "DatabaseError", error.ptr());
-    error.doc() = "Base of every error of the stepstone library: str(e) is one line naming the bad value or file.";
+    error.doc() =
+        "Base of every error of the stepstone library: str(e) is one line naming the bad value or file.";
     config_error.doc() = "A parameter or config value is unusable.";
     data_error.doc() = "Data is unusable: NaN, wrong dimensions, inconsistent sizes.";
     database_error.doc() = "A file is missing, foreign, corrupt or of an unknown schema version.";

@@ -149,9 +149,9 @@ py::array_t<RecordRow> records(const PyKb& self) {
     auto rows = out.mutable_unchecked<1>();
     for (std::size_t i = 0; i < self.kb.size(); ++i) {
         const kb::SegmentRecord& r = self.kb.record(i);
-        rows(static_cast<py::ssize_t>(i)) = RecordRow{r.cum_reward,   r.count,        r.average(),
-                                                      r.first.source, r.first.generation, r.last.source,
-                                                      r.last.generation};
+        rows(static_cast<py::ssize_t>(i)) =
+            RecordRow{r.cum_reward,       r.count,       r.average(),      r.first.source,
+                      r.first.generation, r.last.source, r.last.generation};
     }
     return out;
 }
@@ -196,7 +196,8 @@ std::string repr(const PyKb& self) {
 // (policies x steps x channels) array, timed in this process: the baseline of
 // the Python calls' rate (examples/python/lookup_speed.py)
 double time_lookups(const PyKb& self, const FloatArray& behaviours, bool r_max_only) {
-    if (behaviours.ndim() != 3 || static_cast<std::size_t>(behaviours.shape(2)) != self.kb.params().channels) {
+    if (behaviours.ndim() != 3 ||
+        static_cast<std::size_t>(behaviours.shape(2)) != self.kb.params().channels) {
         throw py::value_error("behaviours must be a (policies x steps x channels) array");
     }
     const auto per_policy = static_cast<std::size_t>(behaviours.shape(1) * behaviours.shape(2));
@@ -221,12 +222,15 @@ void bind_kb(py::module_& m) {
                          last_generation);
 
     py::class_<PyLookup>(m, "Lookup", "What KnowledgeBase.lookup found for a policy's segments.")
-        .def_readonly("ids", &PyLookup::ids, "int64 array: the KB segment credited to each policy segment, -1 for none")
-        .def_readonly("distances", &PyLookup::distances, "float64 array: Euclidean distance to it (0 for none)")
+        .def_readonly("ids", &PyLookup::ids,
+                      "int64 array: the KB segment credited to each policy segment, -1 for none")
+        .def_readonly("distances", &PyLookup::distances,
+                      "float64 array: Euclidean distance to it (0 for none)")
         .def_readonly("averages", &PyLookup::averages, "float64 array: its average reward (0 for none)")
         .def_readonly("r_max", &PyLookup::r_max,
                       "the largest average among the segments, a segment without a match counting 0")
-        .def("__len__", [](const PyLookup& l) { return l.ids.size(); }, "the number of policy segments")
+        .def(
+            "__len__", [](const PyLookup& l) { return l.ids.size(); }, "the number of policy segments")
         .def("__repr__", [](const PyLookup& l) {
             return concat("<stepstone.Lookup: ", l.ids.size(), " segments, r_max ", shortest(l.r_max), ">");
         });
@@ -252,25 +256,29 @@ Every answer is exact and independent of threads.
              }),
              py::arg("width") = kb::kDefaultSegmentWidth, py::arg("channels") = 15, py::arg("delta") = 1.83,
              py::arg("match") = "within_delta",
-             "An empty KB: segments of `width` time steps of `channels` values, threshold `delta`, lookup rule "
+             "An empty KB: segments of `width` time steps of `channels` values, threshold `delta`, lookup "
+             "rule "
              "`match` ('within_delta' or 'nearest'). Raises ConfigError for a bad value.")
-        .def_static("open", &open, py::arg("path"), py::arg("name") = py::none(),
-                    "The KB called `name` of a KB or run file (default: the file's only KB), opened read-only. "
-                    "Raises DatabaseError or DataError naming the file.")
+        .def_static(
+            "open", &open, py::arg("path"), py::arg("name") = py::none(),
+            "The KB called `name` of a KB or run file (default: the file's only KB), opened read-only. "
+            "Raises DatabaseError or DataError naming the file.")
         .def("save", &save, py::arg("path"), py::arg("name") = py::none(), py::arg("force") = false,
              "Writes this KB as the only content of a new KB file (the format of `stepstone kb export`), "
              "atomically. `name` defaults to the KB's own name, or 'kb'. An existing file is refused unless "
              "`force`.")
-        .def("observe", &observe, py::arg("behaviour"), py::arg("reward"), py::arg("run") = "python",
-             py::arg("generation") = 0,
-             "Observes one policy that obtained `reward` and showed `behaviour` (steps x channels), as the "
-             "paper's rule: each segment in order credits its nearest KB segment closer than delta "
-             "(cum_reward += reward, count += 1) or is inserted. `run` names the source (registered on first "
-             "use). Returns {'matched': n, 'inserted': n}. Raises DataError for a non-finite value; the KB is "
-             "then unchanged.")
+        .def(
+            "observe", &observe, py::arg("behaviour"), py::arg("reward"), py::arg("run") = "python",
+            py::arg("generation") = 0,
+            "Observes one policy that obtained `reward` and showed `behaviour` (steps x channels), as the "
+            "paper's rule: each segment in order credits its nearest KB segment closer than delta "
+            "(cum_reward += reward, count += 1) or is inserted. `run` names the source (registered on first "
+            "use). Returns {'matched': n, 'inserted': n}. Raises DataError for a non-finite value; the KB is "
+            "then unchanged.")
         .def("lookup", &lookup, py::arg("behaviour"),
              "Each segment's match under the KB's rule and the policy's r_max, as a Lookup.")
-        .def("r_max", &r_max, py::arg("behaviour"), "lookup(behaviour).r_max, bit for bit, without the per-segment lists.")
+        .def("r_max", &r_max, py::arg("behaviour"),
+             "lookup(behaviour).r_max, bit for bit, without the per-segment lists.")
         .def(
             "merge",
             [](PyKb& self, const PyKb& other) {
@@ -290,14 +298,16 @@ Every answer is exact and independent of threads.
             "A copy whose averages are drawn from U[0, 1) (the `-rand` controls), as `stepstone kb randomize "
             "--seed`.")
         .def(
-            "coarsened", [](const PyKb& self, double delta) { return PyKb(self.kb.coarsened(delta), self.name); },
-            py::arg("delta"), "This KB's segments re-observed under a larger threshold, as `kb export --delta`.")
+            "coarsened",
+            [](const PyKb& self, double delta) { return PyKb(self.kb.coarsened(delta), self.name); },
+            py::arg("delta"),
+            "This KB's segments re-observed under a larger threshold, as `kb export --delta`.")
         .def(
             "nearest",
             [](const PyKb& self, const FloatArray& segment) -> py::object {
                 if (static_cast<std::size_t>(segment.size()) != self.kb.params().dim()) {
-                    throw py::value_error(concat("segment has ", segment.size(), " values, the KB's segments have ",
-                                                 self.kb.params().dim()));
+                    throw py::value_error(concat("segment has ", segment.size(),
+                                                 " values, the KB's segments have ", self.kb.params().dim()));
                 }
                 const auto found =
                     self.kb.nearest({segment.data(), static_cast<std::size_t>(segment.size())});
@@ -305,35 +315,45 @@ Every answer is exact and independent of threads.
                 return py::make_tuple(found->id, std::sqrt(found->squared_distance));
             },
             py::arg("segment"),
-            "(id, distance) of the KB segment nearest to one segment (width x channels values), None if empty.")
-        .def_property_readonly("segments", &segments_view,
-                               "float32 array (segments x width x channels), read-only, viewing the KB's memory "
-                               "(no copy); observe() and merge() refuse while such a view lives.")
-        .def_property_readonly("records", &records,
-                               "structured array, one row per segment: cum_reward, count, average, first_source, "
-                               "first_generation, last_source, last_generation (a copy).")
+            "(id, distance) of the KB segment nearest to one segment (width x channels values), None if "
+            "empty.")
+        .def_property_readonly(
+            "segments", &segments_view,
+            "float32 array (segments x width x channels), read-only, viewing the KB's memory "
+            "(no copy); observe() and merge() refuse while such a view lives.")
+        .def_property_readonly(
+            "records", &records,
+            "structured array, one row per segment: cum_reward, count, average, first_source, "
+            "first_generation, last_source, last_generation (a copy).")
         .def_property_readonly("sources", &sources,
                                "the runs that fed the KB: dicts of run, first_generation, last_generation, "
                                "policies.")
-        .def_property_readonly("width", [](const PyKb& s) { return s.kb.params().segment_width; },
-                               "time steps per segment")
-        .def_property_readonly("channels", [](const PyKb& s) { return s.kb.params().channels; },
-                               "values per time step")
-        .def_property_readonly("delta", [](const PyKb& s) { return s.kb.params().delta; },
-                               "Euclidean threshold: a segment closer than delta is credited")
-        .def_property_readonly("match", [](const PyKb& s) { return std::string(db::to_string(s.kb.params().match)); },
-                               "lookup rule: 'within_delta' or 'nearest'")
-        .def_property_readonly("name", [](const PyKb& s) { return s.name; }, "the KB's name in its file ('' if none)")
-        .def_property_readonly("randomized_seed", [](const PyKb& s) { return s.randomized_seed; },
-                               "the seed of a randomized KB, else None")
-        .def_property_readonly("max_average", [](const PyKb& s) { return s.kb.max_average(); },
-                               "the largest average reward (0 if empty): the `sum` treatment's normaliser")
-        .def("__len__", [](const PyKb& s) { return s.kb.size(); }, "the number of segments")
+        .def_property_readonly(
+            "width", [](const PyKb& s) { return s.kb.params().segment_width; }, "time steps per segment")
+        .def_property_readonly(
+            "channels", [](const PyKb& s) { return s.kb.params().channels; }, "values per time step")
+        .def_property_readonly(
+            "delta", [](const PyKb& s) { return s.kb.params().delta; },
+            "Euclidean threshold: a segment closer than delta is credited")
+        .def_property_readonly(
+            "match", [](const PyKb& s) { return std::string(db::to_string(s.kb.params().match)); },
+            "lookup rule: 'within_delta' or 'nearest'")
+        .def_property_readonly(
+            "name", [](const PyKb& s) { return s.name; }, "the KB's name in its file ('' if none)")
+        .def_property_readonly(
+            "randomized_seed", [](const PyKb& s) { return s.randomized_seed; },
+            "the seed of a randomized KB, else None")
+        .def_property_readonly(
+            "max_average", [](const PyKb& s) { return s.kb.max_average(); },
+            "the largest average reward (0 if empty): the `sum` treatment's normaliser")
+        .def(
+            "__len__", [](const PyKb& s) { return s.kb.size(); }, "the number of segments")
         .def("__repr__", &repr);
 
-    m.def("_time_lookups", &time_lookups, py::arg("kb"), py::arg("behaviours"), py::arg("r_max_only") = false,
-          "Seconds the library takes to look every policy of a (policies x steps x channels) array up in `kb`, "
-          "in a C++ loop (the baseline of examples/python/lookup_speed.py).");
+    m.def(
+        "_time_lookups", &time_lookups, py::arg("kb"), py::arg("behaviours"), py::arg("r_max_only") = false,
+        "Seconds the library takes to look every policy of a (policies x steps x channels) array up in `kb`, "
+        "in a C++ loop (the baseline of examples/python/lookup_speed.py).");
 }
 
 }  // namespace stepstone::python

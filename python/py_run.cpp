@@ -94,32 +94,50 @@ py::array_t<Rec> table(const PyRun& self, const char* sql, Bind&& bind, Row&& ro
 py::array_t<IndividualRec> individuals(const PyRun& self, std::optional<int> generation) {
     return table<IndividualRec>(
         self,
-        "SELECT id, generation, parent_id, reward, fitness, diversity, shaping, balls, steps, presses, pickups, "
+        "SELECT id, generation, parent_id, reward, fitness, diversity, shaping, balls, steps, presses, "
+        "pickups, "
         "carry_steps, basket_releases FROM individual WHERE run_id = ?1 AND (?2 IS NULL OR generation = ?2) "
         "ORDER BY id",
         [&](db::Statement& query) { query.bind(2, generation); },
         [](const db::Statement& q) {
-            return IndividualRec{q.column_int(0), narrow<std::int32_t>(q.column_int(1)), int_or(q, 2, -1),
-                                 q.column_double(3), q.column_double(4), q.column_double(5),
+            return IndividualRec{q.column_int(0),
+                                 narrow<std::int32_t>(q.column_int(1)),
+                                 int_or(q, 2, -1),
+                                 q.column_double(3),
+                                 q.column_double(4),
+                                 q.column_double(5),
                                  q.is_null(6) ? std::numeric_limits<double>::quiet_NaN() : q.column_double(6),
-                                 narrow<std::int32_t>(q.column_int(7)), q.column_int(8),
-                                 narrow<std::int32_t>(int_or(q, 9, -1)), narrow<std::int32_t>(int_or(q, 10, -1)),
-                                 int_or(q, 11, -1), narrow<std::int32_t>(int_or(q, 12, -1))};
+                                 narrow<std::int32_t>(q.column_int(7)),
+                                 q.column_int(8),
+                                 narrow<std::int32_t>(int_or(q, 9, -1)),
+                                 narrow<std::int32_t>(int_or(q, 10, -1)),
+                                 int_or(q, 11, -1),
+                                 narrow<std::int32_t>(int_or(q, 12, -1))};
         });
 }
 
 py::array_t<GenerationRec> generations(const PyRun& self) {
     return table<GenerationRec>(
         self,
-        "SELECT generation, best_reward, mean_reward, median_reward, diversity_min, diversity_max, evaluations, "
+        "SELECT generation, best_reward, mean_reward, median_reward, diversity_min, diversity_max, "
+        "evaluations, "
         "wall_time, time_simulation, time_kb, time_diversity, time_selection, time_database FROM generation "
         "WHERE run_id = ?1 ORDER BY generation",
         [](db::Statement&) {},
         [](const db::Statement& q) {
-            return GenerationRec{narrow<std::int32_t>(q.column_int(0)), q.column_double(1), q.column_double(2),
-                                 q.column_double(3), q.column_double(4), q.column_double(5), q.column_int(6),
-                                 q.column_double(7), q.column_double(8), q.column_double(9), q.column_double(10),
-                                 q.column_double(11), q.column_double(12)};
+            return GenerationRec{narrow<std::int32_t>(q.column_int(0)),
+                                 q.column_double(1),
+                                 q.column_double(2),
+                                 q.column_double(3),
+                                 q.column_double(4),
+                                 q.column_double(5),
+                                 q.column_int(6),
+                                 q.column_double(7),
+                                 q.column_double(8),
+                                 q.column_double(9),
+                                 q.column_double(10),
+                                 q.column_double(11),
+                                 q.column_double(12)};
         });
 }
 
@@ -128,8 +146,9 @@ py::object frame(const py::array& table) {
     try {
         pandas = py::module_::import("pandas");
     } catch (const py::error_already_set&) {
-        throw py::import_error("pandas is not installed (apt-get install python3-pandas); the numpy arrays of "
-                               "generations() and individuals() need nothing more");
+        throw py::import_error(
+            "pandas is not installed (apt-get install python3-pandas); the numpy arrays of "
+            "generations() and individuals() need nothing more");
     }
     return pandas.attr("DataFrame")(table);
 }
@@ -190,45 +209,57 @@ void bind_run(py::module_& m) {
         .def(py::init(&open_run), py::arg("path"),
              "Opens a run file read-only. Raises DatabaseError naming the file when it is missing, foreign, "
              "or holds no run.")
-        .def_property_readonly("path", [](const PyRun& r) { return r.path; }, "the run file, as given")
-        .def_property_readonly("id", [](const PyRun& r) { return r.run.id; }, "the run's id in its file")
-        .def_property_readonly("task", [](const PyRun& r) { return r.run.task; }, "'source' or 'target'")
-        .def_property_readonly("treatment", [](const PyRun& r) { return r.run.treatment; },
-                               "none, sum, mo, sum-rand or mo-rand")
-        .def_property_readonly("seed", [](const PyRun& r) { return r.run.seed; }, "the run seed")
-        .def_property_readonly("status", [](const PyRun& r) { return std::string(exp::to_string(r.run.status)); },
-                               "'running' or 'finished'")
-        .def_property_readonly("generations_asked", [](const PyRun& r) { return r.run.generations; },
-                               "epochs asked for after generation 0")
-        .def_property_readonly("generations_done", [](const PyRun& r) { return r.run.generations_done; },
-                               "the last committed generation (-1: none yet)")
-        .def_property_readonly("evaluations", [](const PyRun& r) { return r.run.evaluations; },
-                               "evaluations run so far")
-        .def_property_readonly("config", [](const PyRun& r) { return json_loads(r.run.config.dump()); },
-                               "the effective config as stored (a dict): task, dnn, ea, kb, transfer, seed")
+        .def_property_readonly(
+            "path", [](const PyRun& r) { return r.path; }, "the run file, as given")
+        .def_property_readonly(
+            "id", [](const PyRun& r) { return r.run.id; }, "the run's id in its file")
+        .def_property_readonly(
+            "task", [](const PyRun& r) { return r.run.task; }, "'source' or 'target'")
+        .def_property_readonly(
+            "treatment", [](const PyRun& r) { return r.run.treatment; }, "none, sum, mo, sum-rand or mo-rand")
+        .def_property_readonly(
+            "seed", [](const PyRun& r) { return r.run.seed; }, "the run seed")
+        .def_property_readonly(
+            "status", [](const PyRun& r) { return std::string(exp::to_string(r.run.status)); },
+            "'running' or 'finished'")
+        .def_property_readonly(
+            "generations_asked", [](const PyRun& r) { return r.run.generations; },
+            "epochs asked for after generation 0")
+        .def_property_readonly(
+            "generations_done", [](const PyRun& r) { return r.run.generations_done; },
+            "the last committed generation (-1: none yet)")
+        .def_property_readonly(
+            "evaluations", [](const PyRun& r) { return r.run.evaluations; }, "evaluations run so far")
+        .def_property_readonly(
+            "config", [](const PyRun& r) { return json_loads(r.run.config.dump()); },
+            "the effective config as stored (a dict): task, dnn, ea, kb, transfer, seed")
         .def("generations", &generations,
              "One row per committed generation: generation, best/mean/median_reward, diversity_min/max, "
              "evaluations, wall_time and the time_* split (seconds).")
-        .def("individuals", &individuals, py::arg("generation") = py::none(),
-             "One row per evaluated individual (of one generation if given): id, generation, parent_id (-1: "
-             "none), reward, fitness, diversity, shaping (NaN without a KB), balls, steps, and the milestones "
-             "presses, pickups, carry_steps, basket_releases (-1 where not recorded).")
+        .def(
+            "individuals", &individuals, py::arg("generation") = py::none(),
+            "One row per evaluated individual (of one generation if given): id, generation, parent_id (-1: "
+            "none), reward, fitness, diversity, shaping (NaN without a KB), balls, steps, and the milestones "
+            "presses, pickups, carry_steps, basket_releases (-1 where not recorded).")
         .def(
             "generations_frame", [](const PyRun& r) { return frame(generations(r)); },
             "generations() as a pandas DataFrame (ImportError without pandas).")
         .def(
             "individuals_frame",
             [](const PyRun& r, std::optional<int> generation) { return frame(individuals(r, generation)); },
-            py::arg("generation") = py::none(), "individuals() as a pandas DataFrame (ImportError without pandas).")
+            py::arg("generation") = py::none(),
+            "individuals() as a pandas DataFrame (ImportError without pandas).")
         .def("genome", &genome, py::arg("individual") = "best",
              "The stored genome of an individual ('best' or an id) as a dict; DataError if it was not kept.")
         .def("replay", &replay, py::arg("individual") = "best",
-             "Re-simulates a stored genome with the run's task and network: a dict of individual_id, generation, "
+             "Re-simulates a stored genome with the run's task and network: a dict of individual_id, "
+             "generation, "
              "stored_reward, reward, balls, steps, milestones and behaviour (the first start's steps x 15 "
              "matrix, float32).")
         .def("__repr__", [](const PyRun& r) {
-            return concat("<stepstone.Run ", r.path, ": ", r.run.task, ", ", r.run.treatment, ", seed ", r.run.seed,
-                          ", ", r.run.generations_done + 1, " of ", r.run.generations, " generations>");
+            return concat("<stepstone.Run ", r.path, ": ", r.run.task, ", ", r.run.treatment, ", seed ",
+                          r.run.seed, ", ", r.run.generations_done + 1, " of ", r.run.generations,
+                          " generations>");
         });
 }
 

@@ -29,7 +29,8 @@ struct PyTask {
     std::shared_ptr<const sim::Task> task;
 };
 
-py::dict result_dict(double reward, int balls, long steps, int nan_outputs, const sim::Milestones& milestones) {
+py::dict result_dict(double reward, int balls, long steps, int nan_outputs,
+                     const sim::Milestones& milestones) {
     py::dict out;
     out["reward"] = reward;
     out["balls"] = balls;
@@ -95,8 +96,10 @@ public:
     py::tuple step(const FloatArray& outputs) {
         if (done_) throw py::value_error("the episode is over; call finish() for its result");
         if (outputs.size() != sim::kOutputs) {
-            throw py::value_error(concat("outputs must hold ", sim::kOutputs, " values (left wheel, right wheel, "
-                                         "action), got ", outputs.size()));
+            throw py::value_error(concat("outputs must hold ", sim::kOutputs,
+                                         " values (left wheel, right wheel, "
+                                         "action), got ",
+                                         outputs.size()));
         }
         std::array<float, sim::kOutputs> out{};
         std::copy(outputs.data(), outputs.data() + sim::kOutputs, out.begin());
@@ -120,8 +123,8 @@ public:
         finished_ = true;
         done_ = true;
         const sim::EpisodeResult result = episode_->finish();
-        py::dict out = result_dict(result.reward, result.balls, result.steps_run, result.nan_outputs,
-                                   result.milestones);
+        py::dict out =
+            result_dict(result.reward, result.balls, result.steps_run, result.nan_outputs, result.milestones);
         out["stopped_early"] = result.stopped_early;
         if (!behaviour_.empty()) out["behaviour"] = matrix_copy(behaviour_, sim::kChannels);
         return out;
@@ -178,20 +181,27 @@ its arena included.)")
              py::arg("still_limit") = 100, py::arg("grid_period") = 50, py::arg("arena") = py::none(),
              "Builds a task; raises ConfigError naming the first value out of range. `arena` is an arena "
              "file's path or an arena as a dict (docs/simulator.md); default: the paper's.")
-        .def_property_readonly("arena", [](const PyTask& t) { return json_loads(t.task->arena_spec().to_json().dump()); },
-                               "the arena, as a dict in the format of an arena file")
-        .def_property_readonly("kind", [](const PyTask& t) { return std::string(sim::to_string(t.task->kind())); },
-                               "'source' or 'target'")
-        .def_property_readonly("steps_per_start", [](const PyTask& t) { return t.task->config().steps_per_start; },
-                               "steps of each start")
-        .def_property_readonly("starts", [](const PyTask& t) { return t.task->config().starts; },
-                               "starts of an evaluation, 1 to 3 (the arena's start poses in order)")
-        .def_property_readonly("still_limit", [](const PyTask& t) { return t.task->config().still_limit; },
-                               "the evaluation ends when the cumulative still steps exceed this")
-        .def_property_readonly("grid_period", [](const PyTask& t) { return t.task->config().grid_period; },
-                               "steps between two samples of the diversity trajectory")
-        .def_property_readonly("reward_divisor", [](const PyTask& t) { return t.task->reward_divisor(); },
-                               "reward = balls / reward_divisor (8 balls per start)")
+        .def_property_readonly(
+            "arena", [](const PyTask& t) { return json_loads(t.task->arena_spec().to_json().dump()); },
+            "the arena, as a dict in the format of an arena file")
+        .def_property_readonly(
+            "kind", [](const PyTask& t) { return std::string(sim::to_string(t.task->kind())); },
+            "'source' or 'target'")
+        .def_property_readonly(
+            "steps_per_start", [](const PyTask& t) { return t.task->config().steps_per_start; },
+            "steps of each start")
+        .def_property_readonly(
+            "starts", [](const PyTask& t) { return t.task->config().starts; },
+            "starts of an evaluation, 1 to 3 (the arena's start poses in order)")
+        .def_property_readonly(
+            "still_limit", [](const PyTask& t) { return t.task->config().still_limit; },
+            "the evaluation ends when the cumulative still steps exceed this")
+        .def_property_readonly(
+            "grid_period", [](const PyTask& t) { return t.task->config().grid_period; },
+            "steps between two samples of the diversity trajectory")
+        .def_property_readonly(
+            "reward_divisor", [](const PyTask& t) { return t.task->reward_divisor(); },
+            "reward = balls / reward_divisor (8 balls per start)")
         .def("__repr__", [](const PyTask& t) {
             const auto& c = t.task->config();
             return concat("<stepstone.Task ", sim::to_string(c.kind), ": ", c.starts, " starts of ",
@@ -237,20 +247,31 @@ stand-still rule ending the whole episode. Outputs are clamped to [0, 1] (NaN co
         .def("step", &PyEpisode::step, py::arg("outputs"),
              "Applies (left wheel, right wheel, action) and moves on; returns (observation, done).")
         .def("finish", &PyEpisode::finish,
-             "The result: reward, balls, steps, nan_outputs, milestones, stopped_early and, when recorded, the "
+             "The result: reward, balls, steps, nan_outputs, milestones, stopped_early and, when recorded, "
+             "the "
              "first start's behaviour matrix.")
-        .def_property_readonly("done", &PyEpisode::done, "True once the last step ran or the robot stood still too long")
-        .def_property_readonly("start", [](const PyEpisode& e) { return e.episode().start(); },
-                               "the current start (0 to starts - 1)")
+        .def_property_readonly("done", &PyEpisode::done,
+                               "True once the last step ran or the robot stood still too long")
+        .def_property_readonly(
+            "start", [](const PyEpisode& e) { return e.episode().start(); },
+            "the current start (0 to starts - 1)")
         .def_property_readonly("step_in_start", &PyEpisode::step_in_start, "steps run in the current start")
-        .def_property_readonly("pose", [](const PyEpisode& e) {
-            const auto& pose = e.episode().pose();
-            return py::make_tuple(pose.x, pose.y, pose.heading);
-        }, "(x, y, heading) in pixels and radians")
-        .def_property_readonly("balls", [](const PyEpisode& e) { return e.episode().balls(); }, "balls scored so far, all starts")
-        .def_property_readonly("carrying", [](const PyEpisode& e) { return e.episode().carrying(); }, "whether the robot carries a ball")
-        .def_property_readonly("door_open", [](const PyEpisode& e) { return e.episode().door_open(); },
-                               "whether the door is open (the target task: always)");
+        .def_property_readonly(
+            "pose",
+            [](const PyEpisode& e) {
+                const auto& pose = e.episode().pose();
+                return py::make_tuple(pose.x, pose.y, pose.heading);
+            },
+            "(x, y, heading) in pixels and radians")
+        .def_property_readonly(
+            "balls", [](const PyEpisode& e) { return e.episode().balls(); },
+            "balls scored so far, all starts")
+        .def_property_readonly(
+            "carrying", [](const PyEpisode& e) { return e.episode().carrying(); },
+            "whether the robot carries a ball")
+        .def_property_readonly(
+            "door_open", [](const PyEpisode& e) { return e.episode().door_open(); },
+            "whether the door is open (the target task: always)");
 }
 
 }  // namespace stepstone::python

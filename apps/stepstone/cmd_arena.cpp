@@ -27,7 +27,8 @@ struct ArenaFlags {
 void run_arena(const ArenaFlags& flags) {
     sim::TaskConfig config;
     config.kind = sim::parse_task_kind(flags.task, "--task");
-    if (!flags.file.empty()) config.arena = std::make_shared<const sim::ArenaSpec>(sim::ArenaSpec::load(flags.file));
+    if (!flags.file.empty())
+        config.arena = std::make_shared<const sim::ArenaSpec>(sim::ArenaSpec::load(flags.file));
     const sim::ArenaSpec& arena = config.arena_spec();
     if (!flags.out.empty()) {
         const auto format = report::format_of(flags.out);
@@ -56,7 +57,8 @@ void run_arena(const ArenaFlags& flags) {
 void add_arena_command(CLI::App& app) {
     auto flags = std::make_shared<ArenaFlags>();
     auto* cmd = app.add_subcommand(
-        "arena", "Check an arena file (walls, door, balls, switch, basket, start poses), print it or draw it");
+        "arena",
+        "Check an arena file (walls, door, balls, switch, basket, start poses), print it or draw it");
     cmd->add_option("file", flags->file, "Arena file (JSON, docs/simulator.md); default: the paper's arena");
     cmd->add_option("--task", flags->task, "Task drawn: source (every ball, door closed) or target")
         ->capture_default_str();

@@ -45,8 +45,10 @@ sim::TaskConfig task_config(const SimulateOptions& options) {
     if (!options.arena.empty()) {
         config.arena = std::make_shared<const sim::ArenaSpec>(sim::ArenaSpec::load(options.arena));
         if (options.controller == "scripted" && *config.arena != sim::paper_arena()) {
-            throw ConfigError(concat("--controller scripted follows waypoints of the paper's arena only; use "
-                                     "--controller random with --arena ", options.arena));
+            throw ConfigError(
+                concat("--controller scripted follows waypoints of the paper's arena only; use "
+                       "--controller random with --arena ",
+                       options.arena));
         }
     }
     config.validate();
@@ -86,11 +88,13 @@ void add_simulate_command(CLI::App& app) {
     cmd->add_option("--csv", options->csv, "Output CSV: one row per step")->required();
     cmd->add_option("--steps", options->steps, "Steps per start")->capture_default_str();
     cmd->add_option("--starts", options->starts, "Number of starts, 1 to 3")->capture_default_str();
-    cmd->add_option("--arena", options->arena, "Arena file (JSON, docs/simulator.md; default: the paper's arena)");
+    cmd->add_option("--arena", options->arena,
+                    "Arena file (JSON, docs/simulator.md; default: the paper's arena)");
     cmd->add_flag("--force", options->force, "Overwrite an existing CSV");
-    cmd->footer(example({"stepstone simulate --task source --controller scripted --csv source.csv",
-                         "stepstone simulate --task target --controller random --seed 7 --steps 500 --starts 1 --csv r.csv",
-                         "stepstone simulate --arena examples/arenas/two_rooms.json --controller random --csv a.csv"}));
+    cmd->footer(example(
+        {"stepstone simulate --task source --controller scripted --csv source.csv",
+         "stepstone simulate --task target --controller random --seed 7 --steps 500 --starts 1 --csv r.csv",
+         "stepstone simulate --arena examples/arenas/two_rooms.json --controller random --csv a.csv"}));
     cmd->callback([options] { run_simulate(*options); });
 }
 

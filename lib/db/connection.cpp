@@ -1,13 +1,12 @@
 #include "db/connection.hpp"
 
-#include "db/segment_codec.hpp"
-
 #include <sqlite3.h>
 
 #include <utility>
 
 #include "core/error.hpp"
 #include "core/text.hpp"
+#include "db/segment_codec.hpp"
 
 namespace stepstone::db {
 

@@ -171,7 +171,8 @@ StoredKb load_kb(Connection& connection, const std::string& name) {
         record.count = static_cast<std::uint64_t>(count);
         const std::size_t offset = values.size();
         values.resize(offset + dim);
-        if (!unpack_segment(blob, params.segment_width, params.channels, std::span<float>(values).subspan(offset))) {
+        if (!unpack_segment(blob, params.segment_width, params.channels,
+                            std::span<float>(values).subspan(offset))) {
             throw bad(concat("holds ", blob.size(), " value bytes: neither ", dim * sizeof(float),
                              " bytes of float32 nor a packed segment"));
         }

@@ -71,7 +71,8 @@ std::vector<std::byte> pack_segment(std::span<const float> values, std::size_t w
     return out;
 }
 
-bool unpack_segment(std::span<const std::byte> blob, std::size_t width, std::size_t channels, std::span<float> out) {
+bool unpack_segment(std::span<const std::byte> blob, std::size_t width, std::size_t channels,
+                    std::span<float> out) {
     const std::size_t raw_size = width * channels * sizeof(float);
     if (out.size() != width * channels) return false;
     if (blob.size() == raw_size) {
@@ -88,10 +89,12 @@ bool unpack_segment(std::span<const std::byte> blob, std::size_t width, std::siz
     for (std::size_t c = channels; c < mask_bytes * 8; ++c) {
         if (std::to_integer<unsigned>(blob[1 + c / 8] >> (c % 8)) & 1u) return false;
     }
-    const std::size_t expected = 1 + mask_bytes + binary_count * bytes_for(width) +
-                                 (channels - binary_count) * width * sizeof(float);
+    const std::size_t expected =
+        1 + mask_bytes + binary_count * bytes_for(width) + (channels - binary_count) * width * sizeof(float);
     if (blob.size() != expected) return false;
-    auto is_binary = [&](std::size_t c) { return (std::to_integer<unsigned>(blob[1 + c / 8] >> (c % 8)) & 1u) != 0; };
+    auto is_binary = [&](std::size_t c) {
+        return (std::to_integer<unsigned>(blob[1 + c / 8] >> (c % 8)) & 1u) != 0;
+    };
     std::size_t at = 1 + mask_bytes;
     for (std::size_t c = 0; c < channels; ++c) {
         if (!is_binary(c)) continue;
@@ -126,7 +129,8 @@ void segment_floats(sqlite3_context* context, int, sqlite3_value** args) {
         return;
     }
     std::vector<float> values(static_cast<std::size_t>(width * channels));
-    const std::span<const std::byte> blob(static_cast<const std::byte*>(data), static_cast<std::size_t>(size));
+    const std::span<const std::byte> blob(static_cast<const std::byte*>(data),
+                                          static_cast<std::size_t>(size));
     if (!unpack_segment(blob, static_cast<std::size_t>(width), static_cast<std::size_t>(channels), values)) {
         sqlite3_result_null(context);
         return;

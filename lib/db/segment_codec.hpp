@@ -32,7 +32,8 @@ std::vector<std::byte> pack_segment(std::span<const float> values, std::size_t w
 
 /// Decodes a stored segment into `out` (width x channels values, row-major).
 /// Returns false when `blob` is neither form (wrong size, tag or padding).
-bool unpack_segment(std::span<const std::byte> blob, std::size_t width, std::size_t channels, std::span<float> out);
+bool unpack_segment(std::span<const std::byte> blob, std::size_t width, std::size_t channels,
+                    std::span<float> out);
 
 /// Registers the SQL function segment_floats(blob, width, channels): the raw
 /// form of a stored segment (NULL for a malformed one), so that SQL sees every

@@ -18,7 +18,8 @@ std::shared_ptr<const sim::ArenaSpec> read_arena(JsonReader& reader, const std::
         return std::make_shared<const sim::ArenaSpec>(sim::ArenaSpec::load(file));
     }
     if (!raw.is_object()) {
-        throw ConfigError(concat(reader.path_of("arena"), " must be an arena file's name or an arena object"));
+        throw ConfigError(
+            concat(reader.path_of("arena"), " must be an arena file's name or an arena object"));
     }
     return std::make_shared<const sim::ArenaSpec>(sim::ArenaSpec::from_json(raw, reader.path_of("arena")));
 }

@@ -168,7 +168,8 @@ void run_report(const ReportOptions& options, const fs::path& dir, ReportSummary
 
     page.heading("The arena and the best policy");
     page.figure("arena", ArenaLayout{}.width, ArenaLayout{}.height,
-                "The arena at the start of an evaluation: walls, door, balls, switch, basket and the three start poses.",
+                "The arena at the start of an evaluation: walls, door, balls, switch, basket and the three "
+                "start poses.",
                 [&](Canvas& c) {
                     draw_arena(c, *task, task->door_starts_open(), concat("The ", run.task, " task's arena"),
                                ArenaLayout::fit(task->arena_spec()));

@@ -183,8 +183,8 @@ Arena::Arena() : Arena(paper_arena()) {}
 
 Arena::Arena(const ArenaSpec& spec) {
     if (spec.walls.empty() || spec.walls.size() >= static_cast<std::size_t>(kSlots)) {
-        throw ConfigError(concat("an arena holds 1 to ", kSlots - 1, " walls and a door, got ", spec.walls.size(),
-                                 " walls"));
+        throw ConfigError(concat("an arena holds 1 to ", kSlots - 1, " walls and a door, got ",
+                                 spec.walls.size(), " walls"));
     }
     // the door comes last, so the open arena is the closed one minus its last box
     wall_count_ = static_cast<int>(spec.walls.size()) + 1;

@@ -45,7 +45,8 @@ ArenaSpec make_paper_arena() {
                   {97.5, 50.625},   {97.5, 151.875},   {97.5, 253.125}, {97.5, 354.375}};
     spec.target_ball = 4;
     spec.switch_light = {532.5, 40.5};
-    spec.basket = Basket{{296.25, 405.0}, 33.75, {{262.5, 385.0}, {330.0, 385.0}, {285.0, 385.0}, {307.5, 385.0}}};
+    spec.basket =
+        Basket{{296.25, 405.0}, 33.75, {{262.5, 385.0}, {330.0, 385.0}, {285.0, 385.0}, {307.5, 385.0}}};
     // (195 + 405/4, 405/4, pi/4), (195 + 3*405/4, 3*405/4, -3pi/4), (195 + 405/4, 3*405/4, -pi/4)
     spec.starts = {{{296.25, 101.25, kPi / 4}, {498.75, 303.75, -3 * kPi / 4}, {296.25, 303.75, -kPi / 4}}};
     return spec;
@@ -94,7 +95,9 @@ public:
         if (!value) fail(path_.empty() ? std::string(key) : path_, concat("'", key, "' is required"));
         return *value;
     }
-    std::string at(const char* key) const { return path_.empty() ? std::string(key) : concat(path_, '.', key); }
+    std::string at(const char* key) const {
+        return path_.empty() ? std::string(key) : concat(path_, '.', key);
+    }
     void finish() const {
         for (const auto& [key, value] : object_.items()) {
             if (!read_.count(key)) fail(path_.empty() ? "arena" : path_, concat("unknown key '", key, "'"));
@@ -113,7 +116,8 @@ WallBox wall(const json& value, const std::string& path, std::string default_nam
     const auto v = numbers(keys.required("box"), 4, keys.at("box"));
     box = {v[0], v[1], v[2], v[3], std::move(default_name)};
     if (const json* name = keys.optional("name")) {
-        if (!name->is_string() || name->get<std::string>().empty()) fail(keys.at("name"), "must be a non-empty string");
+        if (!name->is_string() || name->get<std::string>().empty())
+            fail(keys.at("name"), "must be a non-empty string");
         box.name = name->get<std::string>();
     }
     keys.finish();
@@ -130,8 +134,10 @@ double box_distance(const WallBox& box, double x, double y) {
 }
 
 void check_box(const WallBox& box, const std::string& path) {
-    if (!(box.x0 < box.x1)) fail(path, concat("x0 (", shortest(box.x0), ") must be below x1 (", shortest(box.x1), ")"));
-    if (!(box.y0 < box.y1)) fail(path, concat("y0 (", shortest(box.y0), ") must be below y1 (", shortest(box.y1), ")"));
+    if (!(box.x0 < box.x1))
+        fail(path, concat("x0 (", shortest(box.x0), ") must be below x1 (", shortest(box.x1), ")"));
+    if (!(box.y0 < box.y1))
+        fail(path, concat("y0 (", shortest(box.y0), ") must be below y1 (", shortest(box.y1), ")"));
     // a wall may reach a robot radius past the map's edge, not beyond, and must meet the map
     constexpr double lo = -kRobotRadius;
     constexpr double hi = kMapSize + kRobotRadius;
@@ -139,8 +145,8 @@ void check_box(const WallBox& box, const std::string& path) {
     const char* names[4] = {"x0", "y0", "x1", "y1"};
     for (int i = 0; i < 4; ++i) {
         if (values[i] < lo || values[i] > hi) {
-            fail(path, concat(names[i], " (", shortest(values[i]), ") is outside the arena [", shortest(lo), ", ",
-                              shortest(hi), "]"));
+            fail(path, concat(names[i], " (", shortest(values[i]), ") is outside the arena [", shortest(lo),
+                              ", ", shortest(hi), "]"));
         }
     }
     if (box.x1 <= 0.0 || box.x0 >= kMapSize || box.y1 <= 0.0 || box.y0 >= kMapSize) {
@@ -170,8 +176,8 @@ void check_object(const ArenaSpec& spec, const Object& object) {
 void ArenaSpec::validate() const {
     if (name.empty()) fail("name", "must be a non-empty string");
     if (walls.empty() || walls.size() > kMaxWalls - 1) {
-        fail("walls", concat("must hold 1 to ", kMaxWalls - 1, " walls (the door is the ", kMaxWalls, "th), got ",
-                             walls.size()));
+        fail("walls", concat("must hold 1 to ", kMaxWalls - 1, " walls (the door is the ", kMaxWalls,
+                             "th), got ", walls.size()));
     }
     for (std::size_t i = 0; i < walls.size(); ++i) check_box(walls[i], concat("walls[", i, "]"));
     check_box(door, "door");
@@ -182,7 +188,8 @@ void ArenaSpec::validate() const {
         fail("target_ball", concat("must be a ball's index, 0 to ", balls.size() - 1, ", got ", target_ball));
     }
     if (basket.lights.size() > kMaxBasketLights) {
-        fail("basket.lights", concat("must hold at most ", kMaxBasketLights, " lights, got ", basket.lights.size()));
+        fail("basket.lights",
+             concat("must hold at most ", kMaxBasketLights, " lights, got ", basket.lights.size()));
     }
     if (!(basket.radius > 0.0 && basket.radius <= 100.0)) {
         fail("basket.radius", concat("must be in (0, 100], got ", shortest(basket.radius)));
@@ -206,8 +213,9 @@ void ArenaSpec::validate() const {
         for (std::size_t j = i + 1; j < grabbed.size(); ++j) {
             const double d = std::hypot(grabbed[i].at.x - grabbed[j].at.x, grabbed[i].at.y - grabbed[j].at.y);
             if (d < kReach) {
-                fail(grabbed[j].path, concat("overlaps ", grabbed[i].path, ": ", shortest(d),
-                                             " apart, closer than the robot's reach (", shortest(kReach), ")"));
+                fail(grabbed[j].path,
+                     concat("overlaps ", grabbed[i].path, ": ", shortest(d),
+                            " apart, closer than the robot's reach (", shortest(kReach), ")"));
             }
         }
     }
@@ -218,12 +226,13 @@ void ArenaSpec::validate() const {
         if (!std::isfinite(pose.heading)) fail(path, "heading must be finite");
         if (!(pose.x >= kRobotRadius && pose.x <= kMapSize - kRobotRadius && pose.y >= kRobotRadius &&
               pose.y <= kMapSize - kRobotRadius)) {
-            fail(path, concat("(", shortest(pose.x), ", ", shortest(pose.y), ") puts the robot outside the map"));
+            fail(path,
+                 concat("(", shortest(pose.x), ", ", shortest(pose.y), ") puts the robot outside the map"));
         }
         auto check = [&](const WallBox& box) {
             if (box_distance(box, pose.x, pose.y) < kRobotRadius) {
-                fail(path, concat("(", shortest(pose.x), ", ", shortest(pose.y), ") puts the robot inside the wall '",
-                                  box.name, "'"));
+                fail(path, concat("(", shortest(pose.x), ", ", shortest(pose.y),
+                                  ") puts the robot inside the wall '", box.name, "'"));
             }
         };
         for (const WallBox& box : walls) check(box);
@@ -246,7 +255,8 @@ ArenaSpec ArenaSpec::from_json(const json& value, std::string_view source) {
         spec.door = wall(keys.required("door"), "door", "door");
         const json& balls = keys.required("balls");
         if (!balls.is_array()) fail("balls", "must be an array of [x, y] points");
-        for (std::size_t i = 0; i < balls.size(); ++i) spec.balls.push_back(point(balls[i], concat("balls[", i, "]")));
+        for (std::size_t i = 0; i < balls.size(); ++i)
+            spec.balls.push_back(point(balls[i], concat("balls[", i, "]")));
         const json& target = keys.required("target_ball");
         if (!target.is_number_integer() || target.get<std::int64_t>() < 0) {
             fail("target_ball", concat("must be a ball's index, got ", target.dump()));
@@ -265,12 +275,14 @@ ArenaSpec ArenaSpec::from_json(const json& value, std::string_view source) {
             basket.finish();
         }
         const json& starts = keys.required("starts");
-        if (!starts.is_array() || starts.size() != 3) fail("starts", "must be an array of 3 [x, y, heading] poses");
+        if (!starts.is_array() || starts.size() != 3)
+            fail("starts", "must be an array of 3 [x, y, heading] poses");
         for (std::size_t s = 0; s < 3; ++s) {
             const auto v = numbers(starts[s], 3, concat("starts[", s, "]"));
             spec.starts[s] = Pose{v[0], v[1], v[2]};
         }
-        if (const json* units = keys.optional("units"); units && !units->is_string()) fail("units", "must be a string");
+        if (const json* units = keys.optional("units"); units && !units->is_string())
+            fail("units", "must be a string");
         keys.finish();
         spec.validate();
         return spec;
@@ -284,7 +296,8 @@ json ArenaSpec::to_json() const {
     auto pt = [](const Point& p) { return json::array({p.x, p.y}); };
     json out;
     out["name"] = name;
-    out["units"] = "world units: the map is 600 x 600, origin top-left, y down, headings in radians clockwise";
+    out["units"] =
+        "world units: the map is 600 x 600, origin top-left, y down, headings in radians clockwise";
     out["walls"] = json::array();
     for (const WallBox& b : walls) out["walls"].push_back(box(b));
     out["door"] = box(door);
@@ -303,30 +316,33 @@ std::string ArenaSpec::to_text() const {
     auto n = [](double v) { return shortest(v); };
     auto pt = [&](const Point& p) { return concat('[', n(p.x), ", ", n(p.y), ']'); };
     auto box = [&](const WallBox& b) {
-        return concat("{\"name\": ", json(b.name).dump(), ", \"box\": [", n(b.x0), ", ", n(b.y0), ", ", n(b.x1), ", ",
-                      n(b.y1), "]}");
+        return concat("{\"name\": ", json(b.name).dump(), ", \"box\": [", n(b.x0), ", ", n(b.y0), ", ",
+                      n(b.x1), ", ", n(b.y1), "]}");
     };
     auto points = [&](const std::vector<Point>& list) {
         std::string out = "[";
         for (std::size_t i = 0; i < list.size(); ++i) out += concat(i ? ", " : "", pt(list[i]));
         return out + "]";
     };
-    std::string out = concat("{\n  \"name\": ", json(name).dump(), ",\n  \"units\": ", to_json()["units"].dump(),
-                             ",\n  \"walls\": [\n");
+    std::string out = concat("{\n  \"name\": ", json(name).dump(),
+                             ",\n  \"units\": ", to_json()["units"].dump(), ",\n  \"walls\": [\n");
     for (std::size_t i = 0; i < walls.size(); ++i) {
         out += concat("    ", box(walls[i]), i + 1 < walls.size() ? ",\n" : "\n");
     }
-    out += concat("  ],\n  \"door\": ", box(door), ",\n  \"balls\": ", points(balls), ",\n  \"target_ball\": ",
-                  target_ball, ",\n  \"switch\": ", pt(switch_light), ",\n  \"basket\": {\"centre\": ",
-                  pt(basket.centre), ", \"radius\": ", n(basket.radius), ", \"lights\": ", points(basket.lights),
-                  "},\n  \"starts\": [");
+    out += concat("  ],\n  \"door\": ", box(door), ",\n  \"balls\": ", points(balls),
+                  ",\n  \"target_ball\": ", target_ball, ",\n  \"switch\": ", pt(switch_light),
+                  ",\n  \"basket\": {\"centre\": ", pt(basket.centre), ", \"radius\": ", n(basket.radius),
+                  ", \"lights\": ", points(basket.lights), "},\n  \"starts\": [");
     for (std::size_t s = 0; s < starts.size(); ++s) {
-        out += concat(s ? ", " : "", '[', n(starts[s].x), ", ", n(starts[s].y), ", ", n(starts[s].heading), ']');
+        out +=
+            concat(s ? ", " : "", '[', n(starts[s].x), ", ", n(starts[s].y), ", ", n(starts[s].heading), ']');
     }
     return out + "]\n}\n";
 }
 
-ArenaSpec ArenaSpec::load(const std::filesystem::path& path) { return from_json(load_json_file(path), path.string()); }
+ArenaSpec ArenaSpec::load(const std::filesystem::path& path) {
+    return from_json(load_json_file(path), path.string());
+}
 
 const ArenaSpec& paper_arena() {
     static const ArenaSpec spec = make_paper_arena();

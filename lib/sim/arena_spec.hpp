@@ -3,11 +3,10 @@
 #include <array>
 #include <filesystem>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <string_view>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "sim/robot.hpp"
 
@@ -55,9 +54,9 @@ inline constexpr std::size_t kMaxBasketLights = 6;
 /// map is kMapSize wide and high, origin top-left, y down, angles clockwise.
 struct ArenaSpec {
     std::string name;
-    std::vector<WallBox> walls;  ///< fixed walls (at most kMaxWalls - 1)
-    WallBox door;                ///< a wall while closed (source task, until the switch is pressed)
-    std::vector<Point> balls;    ///< 1 to kMaxBalls; their count x starts divides the reward
+    std::vector<WallBox> walls;   ///< fixed walls (at most kMaxWalls - 1)
+    WallBox door;                 ///< a wall while closed (source task, until the switch is pressed)
+    std::vector<Point> balls;     ///< 1 to kMaxBalls; their count x starts divides the reward
     std::size_t target_ball = 0;  ///< index into balls: where the target task's ball appears
     Point switch_light;
     Basket basket;

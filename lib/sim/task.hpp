@@ -10,8 +10,8 @@
 #include "sim/arena.hpp"
 #include "sim/arena_spec.hpp"
 #include "sim/robot.hpp"
-#include "sim/units.hpp"
 #include "sim/sensors.hpp"
+#include "sim/units.hpp"
 
 namespace stepstone::sim {
 

@@ -1,9 +1,10 @@
 // Stored segments: the packed form's bytes by hand, lossless round trips, the
 // refusals, SQL's segment_floats, and digests that do not see the form.
 
-#include <catch2/catch.hpp>
+#include "db/segment_codec.hpp"
 
 #include <bit>
+#include <catch2/catch.hpp>
 #include <cstring>
 #include <limits>
 #include <random>
@@ -11,7 +12,6 @@
 #include "db/database.hpp"
 #include "db/digest.hpp"
 #include "db/kb_store.hpp"
-#include "db/segment_codec.hpp"
 #include "support/temp_dir.hpp"
 
 using namespace stepstone;
@@ -53,8 +53,8 @@ TEST_CASE("a packed segment holds the bytes the format describes", "[db][kb]") {
     const std::vector<float> values{0.5f, 1.0f, 0.25f, 0.0f, 1.0f, 1.0f};
     // 'P', mask 0b10 (channel 1 binary), channel 1's steps 0 and 2 set (0b101), then channel 0's floats
     // 0.5 = 0x3F000000, 0.25 = 0x3E800000, 1.0 = 0x3F800000, little endian
-    const auto expected = bytes({0x50, 0x02, 0x05, 0x00, 0x00, 0x00, 0x3F, 0x00, 0x00, 0x80, 0x3E, 0x00, 0x00, 0x80,
-                                 0x3F});
+    const auto expected =
+        bytes({0x50, 0x02, 0x05, 0x00, 0x00, 0x00, 0x3F, 0x00, 0x00, 0x80, 0x3E, 0x00, 0x00, 0x80, 0x3F});
     const auto packed = pack_segment(values, 3, 2);
     CHECK(packed == expected);
     std::vector<float> back(6);

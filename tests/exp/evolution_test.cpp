@@ -182,8 +182,8 @@ TEST_CASE("the run's knowledge base counts every observed segment once", "[exp][
     CHECK(sums.column_double(0) == Approx(sums.column_double(1)).margin(1e-9));
     // stored packed (fewer bytes than float32), read back by SQL as the 20 x 15 float32 values
     CHECK(connection.query_int("SELECT max(length(segment_values)) FROM kb_segment") < 20 * 15 * 4);
-    CHECK(connection.query_int("SELECT min(length(segment_floats(segment_values, 20, 15))) FROM kb_segment") ==
-          20 * 15 * 4);
+    CHECK(connection.query_int(
+              "SELECT min(length(segment_floats(segment_values, 20, 15))) FROM kb_segment") == 20 * 15 * 4);
 }
 
 TEST_CASE("a run with a knowledge base is identical across threads and stop and resume", "[exp][kb][determinism]") {

@@ -100,7 +100,8 @@ TEST_CASE("kb stats reports size, histogram, counts and provenance of a hand-mad
     CHECK_THAT(result.out, Contains("randomized_seed 11"));
 }
 
-TEST_CASE("a KB exported from a source run takes at most 800 bytes a segment in its file", "[kb_cli][stats]") {
+TEST_CASE("a KB exported from a source run takes at most 800 bytes a segment in its file",
+          "[kb_cli][stats]") {
     // the paper's channels (15, 9 of them binary) and width (20); 1 start of 400 steps, 16 policies
     // a generation for 12 generations: some 900 segments, so that the file's fixed pages weigh little
     test::TempDir dir;
@@ -108,8 +109,8 @@ TEST_CASE("a KB exported from a source run takes at most 800 bytes a segment in 
                      R"({"task": {"kind": "source", "steps_per_start": 400, "starts": 1},
                          "ea": {"population_size": 16, "generations": 12},
                          "kb": {"segment_width": 20, "delta": 1.83, "period": 1}})");
-    REQUIRE(test::run_cli({"evolve", "--config", (dir / "source.json").string(), "--db", (dir / "run.db").string(),
-                           "--seed", "1", "--quiet"})
+    REQUIRE(test::run_cli({"evolve", "--config", (dir / "source.json").string(), "--db",
+                           (dir / "run.db").string(), "--seed", "1", "--quiet"})
                 .exit_code == 0);
     REQUIRE(test::run_cli({"kb", "export", (dir / "run.db").string(), "--out", (dir / "kb.db").string()})
                 .exit_code == 0);

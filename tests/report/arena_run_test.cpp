@@ -3,7 +3,6 @@
 // broken arena is refused before any file is written.
 
 #include <catch2/catch.hpp>
-
 #include <cmath>
 
 #include "db/connection.hpp"
@@ -45,22 +44,25 @@ TEST_CASE("a run config's arena file is read relative to it and stored whole; th
     CHECK_FALSE(exp::EvolveConfig{}.to_json()["task"].contains("arena"));
 }
 
-TEST_CASE("the two-rooms arena evolves shaped by a paper-arena KB, renders and shapes", "[report][arena][cli]") {
+TEST_CASE("the two-rooms arena evolves shaped by a paper-arena KB, renders and shapes",
+          "[report][arena][cli]") {
     const TempDir dir;
     const auto p = [&](const char* name) { return (dir / name).string(); };
-    // a KB grown in the paper's arena by a small source run; "nearest" matches every policy segment, so that the
-    // other arena's behaviours (other sensor values) always find one at lookup
+    // a KB grown in the paper's arena by a small source run; "nearest" matches every policy segment, so that
+    // the other arena's behaviours (other sensor values) always find one at lookup
     test::write_file(dir / "source.json",
                      R"({"task": {"kind": "source", "steps_per_start": 300, "starts": 1},
                          "ea": {"population_size": 8, "generations": 2},
                          "kb": {"segment_width": 20, "delta": 1.83, "period": 1, "match": "nearest"}})");
-    REQUIRE(run_cli({"evolve", "--config", p("source.json"), "--db", p("source.db"), "--seed", "1", "--quiet"})
-                .exit_code == 0);
+    REQUIRE(
+        run_cli({"evolve", "--config", p("source.json"), "--db", p("source.db"), "--seed", "1", "--quiet"})
+            .exit_code == 0);
     REQUIRE(run_cli({"kb", "randomize", p("source.db"), "--seed", "3", "--out", p("kb.db")}).exit_code == 0);
 
     const auto config = (kArenas / "two_rooms_quick.json").string();
-    const auto run = run_cli({"evolve", "--config", config, "--db", p("run.db"), "--seed", "2", "--generations", "2",
-                              "--kb", p("kb.db"), "--treatment", "sum-rand", "--quiet"});
+    const auto run =
+        run_cli({"evolve", "--config", config, "--db", p("run.db"), "--seed", "2", "--generations", "2",
+                 "--kb", p("kb.db"), "--treatment", "sum-rand", "--quiet"});
     REQUIRE(run.exit_code == 0);
 
     // shape (a replay of the stored best with the run's own arena) gives the r_max evolve stored
@@ -79,20 +81,24 @@ TEST_CASE("the two-rooms arena evolves shaped by a paper-arena KB, renders and s
     const auto image = reporttest::decode_png(test::read_file(dir / "best.png"));
     const auto layout = report::ArenaLayout::fit(sim::ArenaSpec::load(kArenas / "two_rooms.json"));
     const auto at = [&](double x, double y) {
-        return image.at(static_cast<int>(std::floor(layout.px(x))), static_cast<int>(std::floor(layout.py(y))));
+        return image.at(static_cast<int>(std::floor(layout.px(x))),
+                        static_cast<int>(std::floor(layout.py(y))));
     };
-    CHECK(at(450, 130) == rgb(report::kWall));  // inside the pillar, clear of the path drawn
+    CHECK(at(450, 130) == rgb(report::kWall));   // inside the pillar, clear of the path drawn
     CHECK(at(250, 203) == rgb(report::kFloor));  // the paper's horizontal wall, x 201.7-453
-    CHECK(at(300, 100) == rgb(report::kWall));  // the divider above the door
+    CHECK(at(300, 100) == rgb(report::kWall));   // the divider above the door
 }
 
-TEST_CASE("a broken arena is refused with one line before any file is written", "[report][arena][cli][errors]") {
+TEST_CASE("a broken arena is refused with one line before any file is written",
+          "[report][arena][cli][errors]") {
     const TempDir dir;
     auto arena = nlohmann::json::parse(test::read_file(kArenas / "two_rooms.json"));
     arena["starts"][0] = {440, 205, 0};
     test::write_file(dir / "bad.json", arena.dump());
-    test::write_file(dir / "run.json", R"({"task": {"kind": "target", "arena": "bad.json", "steps_per_start": 100}})");
-    const auto run = run_cli({"evolve", "--config", (dir / "run.json").string(), "--db", (dir / "run.db").string()});
+    test::write_file(dir / "run.json",
+                     R"({"task": {"kind": "target", "arena": "bad.json", "steps_per_start": 100}})");
+    const auto run =
+        run_cli({"evolve", "--config", (dir / "run.json").string(), "--db", (dir / "run.db").string()});
     CHECK(run.exit_code == 2);
     CHECK_THAT(run.err, Contains("bad.json: starts[0]: (440, 205) puts the robot inside the wall 'pillar'"));
     CHECK(std::count(run.err.begin(), run.err.end(), '\n') == 1);
@@ -102,13 +108,14 @@ TEST_CASE("a broken arena is refused with one line before any file is written", 
     CHECK(check.exit_code == 2);
     CHECK_THAT(check.err, Contains("starts[0]"));
     test::write_file(dir / "missing.json", R"({"task": {"arena": "nowhere.json"}})");
-    const auto missing = run_cli({"evolve", "--config", (dir / "missing.json").string(), "--db", (dir / "m.db").string()});
+    const auto missing =
+        run_cli({"evolve", "--config", (dir / "missing.json").string(), "--db", (dir / "m.db").string()});
     CHECK(missing.exit_code == 2);
     CHECK_THAT(missing.err, Contains("nowhere.json"));
 
     // the scripted controller knows the paper's arena only
-    const auto scripted = run_cli({"simulate", "--arena", (kArenas / "two_rooms.json").string(), "--csv",
-                                   (dir / "s.csv").string()});
+    const auto scripted = run_cli(
+        {"simulate", "--arena", (kArenas / "two_rooms.json").string(), "--csv", (dir / "s.csv").string()});
     CHECK(scripted.exit_code == 2);
     CHECK_THAT(scripted.err, Contains("--controller random"));
     CHECK(run_cli({"simulate", "--arena", (kArenas / "two_rooms.json").string(), "--controller", "random",

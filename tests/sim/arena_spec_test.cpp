@@ -1,13 +1,13 @@
 // Arenas as data: the paper's arena as a file, a second arena's geometry by
 // hand, and every refusal of a broken arena in one line naming the key.
 
-#include <catch2/catch.hpp>
+#include "sim/arena_spec.hpp"
 
+#include <catch2/catch.hpp>
 #include <cmath>
 
 #include "core/config.hpp"
 #include "core/error.hpp"
-#include "sim/arena_spec.hpp"
 #include "sim/task.hpp"
 #include "sim/units.hpp"
 #include "support/temp_dir.hpp"
@@ -44,7 +44,8 @@ std::string refusal(const std::function<void(json&)>& edit) {
 
 }  // namespace
 
-TEST_CASE("the shipped paper.json is the built-in paper arena, decoded from the bitmap's pixels", "[sim][arena]") {
+TEST_CASE("the shipped paper.json is the built-in paper arena, decoded from the bitmap's pixels",
+          "[sim][arena]") {
     const ArenaSpec file = ArenaSpec::load(kArenas / "paper.json");
     CHECK(file == paper_arena());
     // by hand: the door is pixels x 100-102, y 127-173 of the 296 px bitmap of 600 units
@@ -93,29 +94,53 @@ TEST_CASE("a task in the two-rooms arena has its walls, door, balls, switch and 
 TEST_CASE("a broken arena is refused in one line naming the key", "[sim][arena][errors]") {
     CHECK_THAT(refusal([](json& a) { a["walls"][2]["box"][2] = 700; }),
                Contains("broken.json: walls[2]: x1 (700) is outside the arena [-20, 620]"));
-    CHECK_THAT(refusal([](json& a) { a["walls"][6]["box"] = {900, 900, 950, 950}; }),
+    CHECK_THAT(refusal([](json& a) {
+                   a["walls"][6]["box"] = {900, 900, 950, 950};
+               }),
                Contains("walls[6]: x0 (900) is outside the arena"));
-    CHECK_THAT(refusal([](json& a) { a["walls"][1]["box"] = {500, 10, 400, 20}; }),
+    CHECK_THAT(refusal([](json& a) {
+                   a["walls"][1]["box"] = {500, 10, 400, 20};
+               }),
                Contains("walls[1]: x0 (500) must be below x1 (400)"));
-    CHECK_THAT(refusal([](json& a) { a["starts"][0] = {440, 205, 0}; }),
+    CHECK_THAT(refusal([](json& a) {
+                   a["starts"][0] = {440, 205, 0};
+               }),
                Contains("starts[0]: (440, 205) puts the robot inside the wall 'pillar'"));
-    CHECK_THAT(refusal([](json& a) { a["starts"][2] = {300, 190, 0}; }),
+    CHECK_THAT(refusal([](json& a) {
+                   a["starts"][2] = {300, 190, 0};
+               }),
                Contains("starts[2]: (300, 190) puts the robot inside the wall 'door'"));
-    CHECK_THAT(refusal([](json& a) { a["switch"] = {525, 65}; }),
-               Contains("switch: overlaps balls[1]: 7.0710678118654755 apart, closer than the robot's reach (20)"));
-    CHECK_THAT(refusal([](json& a) { a["balls"][3] = {450, 150}; }), Contains("balls[3]: lies inside the wall 'pillar'"));
-    CHECK_THAT(refusal([](json& a) { a["balls"][3] = {450, 650}; }), Contains("balls[3]: (450, 650) is outside the map"));
-    CHECK_THAT(refusal([](json& a) { a["target_ball"] = 8; }), Contains("target_ball: must be a ball's index, 0 to 7, got 8"));
+    CHECK_THAT(
+        refusal([](json& a) {
+            a["switch"] = {525, 65};
+        }),
+        Contains("switch: overlaps balls[1]: 7.0710678118654755 apart, closer than the robot's reach (20)"));
+    CHECK_THAT(refusal([](json& a) {
+                   a["balls"][3] = {450, 150};
+               }),
+               Contains("balls[3]: lies inside the wall 'pillar'"));
+    CHECK_THAT(refusal([](json& a) {
+                   a["balls"][3] = {450, 650};
+               }),
+               Contains("balls[3]: (450, 650) is outside the map"));
+    CHECK_THAT(refusal([](json& a) { a["target_ball"] = 8; }),
+               Contains("target_ball: must be a ball's index, 0 to 7, got 8"));
     CHECK_THAT(refusal([](json& a) { a["wals"] = a["walls"]; }), Contains("arena: unknown key 'wals'"));
     CHECK_THAT(refusal([](json& a) { a.erase("door"); }), Contains("'door' is required"));
-    CHECK_THAT(refusal([](json& a) { a["basket"]["radius"] = "big"; }), Contains("basket.radius: must be a number"));
-    CHECK_THAT(refusal([](json& a) { a["starts"][1] = {520, 260}; }),
+    CHECK_THAT(refusal([](json& a) { a["basket"]["radius"] = "big"; }),
+               Contains("basket.radius: must be a number"));
+    CHECK_THAT(refusal([](json& a) {
+                   a["starts"][1] = {520, 260};
+               }),
                Contains("starts[1]: must be an array of 3 numbers"));
     CHECK_THAT(refusal([](json& a) {
                    for (int i = 0; i < 5; ++i) a["walls"].push_back({{"box", {10 + i, 10, 11 + i, 11}}});
                }),
                Contains("walls: must hold 1 to 11 walls (the door is the 12th), got 12"));
-    CHECK_THAT(refusal([](json& a) { a["balls"].push_back({560, 300}); }), Contains("balls: must hold 1 to 8 balls, got 9"));
+    CHECK_THAT(refusal([](json& a) {
+                   a["balls"].push_back({560, 300});
+               }),
+               Contains("balls: must hold 1 to 8 balls, got 9"));
     CHECK(refusal([](json&) {}) == "(accepted)");
 }
 
