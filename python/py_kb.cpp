@@ -257,8 +257,7 @@ Every answer is exact and independent of threads.
              py::arg("width") = kb::kDefaultSegmentWidth, py::arg("channels") = 15, py::arg("delta") = 1.83,
              py::arg("match") = "within_delta",
              "An empty KB: segments of `width` time steps of `channels` values, threshold `delta`, lookup "
-             "rule "
-             "`match` ('within_delta' or 'nearest'). Raises ConfigError for a bad value.")
+             "rule `match` ('within_delta' or 'nearest'). Raises ConfigError for a bad value.")
         .def_static(
             "open", &open, py::arg("path"), py::arg("name") = py::none(),
             "The KB called `name` of a KB or run file (default: the file's only KB), opened read-only. "

@@ -248,8 +248,7 @@ stand-still rule ending the whole episode. Outputs are clamped to [0, 1] (NaN co
              "Applies (left wheel, right wheel, action) and moves on; returns (observation, done).")
         .def("finish", &PyEpisode::finish,
              "The result: reward, balls, steps, nan_outputs, milestones, stopped_early and, when recorded, "
-             "the "
-             "first start's behaviour matrix.")
+             "the first start's behaviour matrix.")
         .def_property_readonly("done", &PyEpisode::done,
                                "True once the last step ran or the robot stood still too long")
         .def_property_readonly(
