@@ -25,6 +25,10 @@ void add_registered_commands(CLI::App& app);
 /// Formats the "Example:" footer shown by --help.
 std::string example(std::initializer_list<const char*> lines);
 
+/// Checks an --individual value ('best' or an individual id), so that a bad one
+/// is a usage error naming the flag before any file is opened.
+const CLI::Validator& individual_check();
+
 /// Writes `path` (nothing when empty) through `writer(std::ostream&)`, all or
 /// nothing: an existing file is replaced only with `force`, and only once the
 /// whole output is written.

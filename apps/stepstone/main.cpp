@@ -33,6 +33,19 @@ void add_registered_commands(CLI::App& app) {
     for (const auto& entry : adders) entry.second(app);
 }
 
+const CLI::Validator& individual_check() {
+    static const CLI::Validator check(
+        [](std::string& value) -> std::string {
+            if (value == "best" || (!value.empty() && value.size() < 19 &&
+                                    value.find_first_not_of("0123456789") == std::string::npos)) {
+                return "";
+            }
+            return "must be 'best' or an individual id, got \"" + value + "\"";
+        },
+        "best|ID");
+    return check;
+}
+
 std::string example(std::initializer_list<const char*> lines) {
     std::string text = "\nExample:";
     for (const char* line : lines) text += std::string("\n  ") + line;

@@ -156,6 +156,8 @@ class Runs(unittest.TestCase):
             self.stored.genome(999999)
         with self.assertRaises(TypeError):
             self.stored.replay(2.5)
+        with self.assertRaisesRegex(stepstone.ConfigError, "^individual must be 'best' or an individual id"):
+            self.stored.replay("worst")
 
 
 class Docs(unittest.TestCase):
