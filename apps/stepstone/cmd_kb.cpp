@@ -162,7 +162,8 @@ void add_calibrate(CLI::App& kb_cmd) {
         "calibrate",
         "The paper's delta rule on a stored policy, and the KB size per delta over the run's policies");
     cmd->add_option("run", flags->run, "Run database (opened read-only)")->required();
-    cmd->add_option("--individual", flags->individual, "The successful policy: 'best' (default) or an id")->check(individual_check());
+    cmd->add_option("--individual", flags->individual, "The successful policy: 'best' (default) or an id")
+        ->check(individual_check());
     cmd->add_option("--deltas", flags->deltas,
                     "Comma-separated deltas for the size table (default: " + flags->deltas +
                         "), or 'none' for the delta alone");

@@ -105,7 +105,8 @@ void add_render_command(CLI::App& app) {
     auto* cmd = app.add_subcommand(
         "render", "Draw a stored policy's trajectory in the arena, coloured by the saliency of its segments (PNG or SVG)");
     cmd->add_option("db", flags->db, "Run database (opened read-only)")->required();
-    cmd->add_option("--individual", flags->individual, "'best' (default) or an individual id")->check(individual_check());
+    cmd->add_option("--individual", flags->individual, "'best' (default) or an individual id")
+        ->check(individual_check());
     cmd->add_option("--kb", flags->kb, "KB file to colour by (default: the run's own KB, if it built one)");
     cmd->add_option("--kb-name", flags->kb_name, "Which KB of the --kb file (default: its only one)");
     cmd->add_option("--start", flags->start, "Start pose to draw, 1 to 3 (default 1, the one the KB describes)");

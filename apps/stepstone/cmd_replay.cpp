@@ -74,7 +74,8 @@ void add_replay_command(CLI::App& app) {
     auto flags = std::make_shared<ReplayFlags>();
     auto* cmd = app.add_subcommand("replay", "Re-simulate a stored genome and check its reward");
     cmd->add_option("db", flags->db, "Run database (opened read-only)")->required();
-    cmd->add_option("--individual", flags->individual, "'best' (default) or an individual id")->check(individual_check());
+    cmd->add_option("--individual", flags->individual, "'best' (default) or an individual id")
+        ->check(individual_check());
     cmd->add_option("--csv", flags->csv, "Also write every step as CSV (columns as `stepstone simulate`)");
     cmd->add_option("--behaviour-json", flags->behaviour_json,
                     "Also write the first start's behaviour matrix as {\"behaviour\": [[15 channels], ...]} "

@@ -25,7 +25,8 @@ void add_shape_command(CLI::App& app) {
         "shape", "Look a stored policy's segments up in a knowledge base: r_max and each segment's match");
     cmd->add_option("--kb", flags->kb, "KB file (opened read-only)")->required();
     cmd->add_option("--run", flags->run, "Run database holding the policy (opened read-only)")->required();
-    cmd->add_option("--individual", flags->individual, "'best' (default) or an individual id")->check(individual_check());
+    cmd->add_option("--individual", flags->individual, "'best' (default) or an individual id")
+        ->check(individual_check());
     cmd->add_option("--kb-name", flags->kb_name, "Which KB of the KB file (default: its only one)");
     cmd->add_flag("--json", flags->json, "Print JSON instead of text");
     cmd->footer(example({"stepstone shape --kb kb.db --run run.db --individual best",

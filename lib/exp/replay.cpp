@@ -29,7 +29,8 @@ ReplaySetup prepare_replay(const std::filesystem::path& db_path, const std::stri
         const auto* end = individual.data() + individual.size();
         const auto parsed = std::from_chars(individual.data(), end, id);
         if (parsed.ec != std::errc() || parsed.ptr != end || id < 0) {
-            throw ConfigError(concat("individual must be 'best' or an individual id, got \"", individual, '"'));
+            throw ConfigError(
+                concat("individual must be 'best' or an individual id, got \"", individual, '"'));
         }
         stored = load_genome(connection, run.id, id);
     }

@@ -101,7 +101,8 @@ TEST_CASE("the run file holds every generation, individual and a replayable best
         ++replayed;
     }
     CHECK(replayed > 0);
-    CHECK_THROWS_WITH(exp::replay(dir / "run.db", "abc"), Contains("individual must be 'best' or an individual id") && !Contains("--"));
+    CHECK_THROWS_WITH(exp::replay(dir / "run.db", "abc"),
+                      Contains("individual must be 'best' or an individual id") && !Contains("--"));
 }
 
 TEST_CASE("bad configs are refused with the key named and no file written", "[exp][errors]") {
