@@ -35,7 +35,7 @@ double box_distance(const sim::WallBox& w, double x, double y) {
 
 }  // namespace
 
-TEST_CASE("wall pixels lie inside the wall boxes and floor pixels outside, in any arena") {
+TEST_CASE("wall pixels lie inside the wall boxes and floor pixels outside, in any arena", "[report]") {
     sim::TaskConfig config;  // the source task: door closed
     const bool second = GENERATE(false, true);
     if (second) {
@@ -87,7 +87,7 @@ TEST_CASE("wall pixels lie inside the wall boxes and floor pixels outside, in an
     CHECK(floor_points == 300);
 }
 
-TEST_CASE("an open door is drawn as an outline: its inside is floor") {
+TEST_CASE("an open door is drawn as an outline: its inside is floor", "[report]") {
     sim::TaskConfig config;
     config.kind = sim::TaskKind::target;  // the door is open throughout
     const auto task = sim::make_task(config);
@@ -101,7 +101,7 @@ TEST_CASE("an open door is drawn as an outline: its inside is floor") {
     CHECK(closed.at(px, py) == rgb(kDoor));
 }
 
-TEST_CASE("a trajectory draws the balls as its last step left them: a taken ball is an outline") {
+TEST_CASE("a trajectory draws the balls as its last step left them: a taken ball is an outline", "[report]") {
     sim::TaskConfig config;  // the source task: every ball on the floor at the start
     auto task = std::shared_ptr<const sim::Task>(sim::make_task(config));
     const auto lights = task->lights();

@@ -20,7 +20,7 @@ std::vector<std::string> labels(const stepstone::report::Ticks& ticks) {
 
 }  // namespace
 
-TEST_CASE("ticks of a reward axis are tenths") {
+TEST_CASE("ticks of a reward axis are tenths", "[report]") {
     // the range 0.625 rounds up to nice(0.625) = 1; 1 / (6 - 1) = 0.2, already round
     const auto ticks = nice_ticks(0.0, 0.625, 6);
     CHECK(ticks.step == Approx(0.2));
@@ -29,7 +29,7 @@ TEST_CASE("ticks of a reward axis are tenths") {
     CHECK(ticks.high == Approx(0.8));
 }
 
-TEST_CASE("ticks of a generation axis are thousands") {
+TEST_CASE("ticks of a generation axis are thousands", "[report]") {
     // nice(4000) = 5000 (4 rounds up to 5); 5000 / 7 = 714 rounds to 1000
     const auto ticks = nice_ticks(0.0, 4000.0, 8);
     CHECK(ticks.step == 1000.0);
@@ -37,13 +37,13 @@ TEST_CASE("ticks of a generation axis are thousands") {
     CHECK(ticks.decimals == 0);
 }
 
-TEST_CASE("ticks cover a range that crosses zero at multiples of the step") {
+TEST_CASE("ticks cover a range that crosses zero at multiples of the step", "[report]") {
     // nice(10) = 10, 10 / 5 = 2; floor(-3 / 2) * 2 = -4, ceil(7 / 2) * 2 = 8
     const auto ticks = nice_ticks(-3.0, 7.0, 6);
     CHECK(labels(ticks) == std::vector<std::string>{"-4", "-2", "0", "2", "4", "6", "8"});
 }
 
-TEST_CASE("ticks of the unit interval and of small ranges print exactly") {
+TEST_CASE("ticks of the unit interval and of small ranges print exactly", "[report]") {
     CHECK(labels(nice_ticks(0.0, 1.0, 6)) == std::vector<std::string>{"0.0", "0.2", "0.4", "0.6", "0.8", "1.0"});
     // nice(0.3) = 0.5, 0.5 / 5 = 0.1: 3 x 0.1 is 0.30000000000000004 in binary, printed 0.3
     CHECK(labels(nice_ticks(0.0, 0.3, 6)) == std::vector<std::string>{"0.0", "0.1", "0.2", "0.3"});
@@ -52,7 +52,7 @@ TEST_CASE("ticks of the unit interval and of small ranges print exactly") {
           std::vector<std::string>{"0.000", "0.005", "0.010", "0.015", "0.020"});
 }
 
-TEST_CASE("degenerate ranges get usable ticks") {
+TEST_CASE("degenerate ranges get usable ticks", "[report]") {
     // one value: widened by 1 each way, nice(2) = 2, 2 / 5 = 0.4 rounds to 0.5
     CHECK(labels(nice_ticks(5.0, 5.0, 6)) == std::vector<std::string>{"4.0", "4.5", "5.0", "5.5", "6.0"});
     CHECK(labels(nice_ticks(0.0, 0.0, 6)) == labels(nice_ticks(0.0, 1.0, 6)));
@@ -62,7 +62,7 @@ TEST_CASE("degenerate ranges get usable ticks") {
     CHECK(labels(nice_ticks(-0.0, 1.0, 6)).front() == "0.0");
 }
 
-TEST_CASE("ticks always enclose the data and stay near the asked count") {
+TEST_CASE("ticks always enclose the data and stay near the asked count", "[report]") {
     for (const auto& [low, high] : std::vector<std::pair<double, double>>{
              {0.0, 0.041}, {0.0, 1.0 / 24.0}, {3.0, 3001.0}, {-0.5, 0.25}, {120.0, 980.0}, {0.0, 149233.0}}) {
         const auto ticks = nice_ticks(low, high, 6);
@@ -77,7 +77,7 @@ TEST_CASE("ticks always enclose the data and stay near the asked count") {
     }
 }
 
-TEST_CASE("a scale maps data linearly onto pixels") {
+TEST_CASE("a scale maps data linearly onto pixels", "[report]") {
     const Scale x{0.0, 10.0, 100.0, 200.0};
     CHECK(x(5.0) == 150.0);
     CHECK(x(0.0) == 100.0);

@@ -69,7 +69,7 @@ exp::CampaignStats hand_stats() {
 
 }  // namespace
 
-TEST_CASE("every figure renders as PNG and SVG from a small run") {
+TEST_CASE("every figure renders as PNG and SVG from a small run", "[report]") {
     test::TempDir dir;
     reporttest::make_run(dir / "run.db");
     auto connection = db::open_database(dir / "run.db", db::OpenMode::read_only);
@@ -108,14 +108,14 @@ TEST_CASE("every figure renders as PNG and SVG from a small run") {
     check_figure("run shaping", kFigureWidth, kFigureHeight, [&](Canvas& c) { draw_run_shaping(c, shaped, "s"); });
 }
 
-TEST_CASE("a figure's file name decides its format, and others are refused") {
+TEST_CASE("a figure's file name decides its format, and others are refused", "[report]") {
     CHECK(format_of("a/b.png") == Format::png);
     CHECK(format_of("B.SVG") == Format::svg);
     CHECK_THROWS_WITH(format_of("plot.jpg"), "plot.jpg: the figure's file name must end in .png or .svg");
     CHECK_THROWS_AS(format_of("plot"), ConfigError);
 }
 
-TEST_CASE("a histogram's bars are as tall as the counts say") {
+TEST_CASE("a histogram's bars are as tall as the counts say", "[report]") {
     // three segments: averages 0, 0 and 1 (largest 1): the first bin holds 2,
     // the last 1, so the first bar is twice the last one's height
     kb::KbParams params;
@@ -152,7 +152,7 @@ TEST_CASE("a histogram's bars are as tall as the counts say") {
     CHECK(std::abs(first - 2 * last) <= 2);
 }
 
-TEST_CASE("a line chart's legend goes to the corner its curves leave free") {
+TEST_CASE("a line chart's legend goes to the corner its curves leave free", "[report]") {
     // three curves high (0.9) from the left to x = 9, then down to 0 at x = 10: the top corners are
     // taken, the bottom ones free; the legend used to sit at the top left, over the curves
     std::vector<Curve> curves;
@@ -182,7 +182,7 @@ TEST_CASE("a line chart's legend goes to the corner its curves leave free") {
     }
 }
 
-TEST_CASE("a curve drawn exactly over another says so in the legend") {
+TEST_CASE("a curve drawn exactly over another says so in the legend", "[report]") {
     Curve sum{"sum", kBlue, {0, 1, 2}, {0, 0, 0}, {}, {}, false, false};
     Curve mo{"mo", kVermillion, {0, 1, 2}, {0, 0, 0}, {}, {}, false, false};
     Curve other{"none", kGreen, {0, 1, 2}, {0, 0.5, 0}, {}, {}, false, false};

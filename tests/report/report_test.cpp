@@ -53,7 +53,7 @@ void check_refused(const test::CliResult& result, const fs::path& dir, const std
 
 }  // namespace
 
-TEST_CASE("a run's report holds its figures and refers only to files beside it") {
+TEST_CASE("a run's report holds its figures and refers only to files beside it", "[report]") {
     test::TempDir dir;
     reporttest::make_run(dir / "run.db");
     const auto result = run_cli({"report", (dir / "run.db").string(), "--out", (dir / "rep").string(), "--quiet"});
@@ -85,7 +85,7 @@ TEST_CASE("a run's report holds its figures and refers only to files beside it")
     CHECK(fs::exists(dir / "rep" / "index.html"));
 }
 
-TEST_CASE("a campaign's report compares the treatments and shows the KB and the best policies") {
+TEST_CASE("a campaign's report compares the treatments and shows the KB and the best policies", "[report]") {
     test::TempDir dir;
     reporttest::make_campaign(dir / "camp");
     const auto result = run_cli({"report", (dir / "camp").string(), "--out", (dir / "rep").string(), "--quiet"});
@@ -142,7 +142,7 @@ TEST_CASE("a campaign's report compares the treatments and shows the KB and the 
     CHECK(one_scored.find("The best policy of target/sum/seed-1.db") != std::string::npos);
 }
 
-TEST_CASE("a run file older than the milestones still reports, and says what it lacks") {
+TEST_CASE("a run file older than the milestones still reports, and says what it lacks", "[report]") {
     test::TempDir dir;
     reporttest::make_run(dir / "run.db");
     test::make_schema4_run(dir / "run.db");  // as schema 4 wrote it: no milestone columns
@@ -159,7 +159,7 @@ TEST_CASE("a run file older than the milestones still reports, and says what it 
     CHECK(test::read_file(dir / "run.db") == before);
 }
 
-TEST_CASE("a report of a run with no generation, of a foreign file or into an unwritable place fails cleanly") {
+TEST_CASE("a report of a run with no generation, of a foreign file or into an unwritable place fails cleanly", "[report]") {
     test::TempDir dir;
     // a run row and no generation: what a run killed before its first commit leaves
     {
@@ -189,7 +189,7 @@ TEST_CASE("a report of a run with no generation, of a foreign file or into an un
                   "no campaign.db here");
 }
 
-TEST_CASE("render draws a stored policy as PNG or SVG, and refuses bad options with one line") {
+TEST_CASE("render draws a stored policy as PNG or SVG, and refuses bad options with one line", "[report]") {
     test::TempDir dir;
     reporttest::make_run(dir / "run.db");
     const auto png = run_cli({"render", (dir / "run.db").string(), "--out", (dir / "t.png").string(), "--steps",
@@ -220,7 +220,7 @@ TEST_CASE("render draws a stored policy as PNG or SVG, and refuses bad options w
     refused({"--out", (dir / "x.png").string(), "--kb", (dir / "none.db").string()}, "none.db");
 }
 
-TEST_CASE("a campaign whose target runs have not all started compares the finished ones") {
+TEST_CASE("a campaign whose target runs have not all started compares the finished ones", "[report]") {
     test::TempDir dir;
     reporttest::make_campaign(dir / "camp");
     {

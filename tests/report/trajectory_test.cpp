@@ -106,7 +106,7 @@ bool close(const Rgb& a, const Rgb& b) {
 
 }  // namespace
 
-TEST_CASE("trajectory circles take the colour of their segment's KB average") {
+TEST_CASE("trajectory circles take the colour of their segment's KB average", "[report]") {
     test::TempDir dir;
     reporttest::make_run(dir / "run.db", true);
     const ArenaLayout layout;
@@ -154,7 +154,7 @@ TEST_CASE("trajectory circles take the colour of their segment's KB average") {
     CHECK(shades.size() >= 2);
 }
 
-TEST_CASE("without a knowledge base every circle is white") {
+TEST_CASE("without a knowledge base every circle is white", "[report]") {
     test::TempDir dir;
     reporttest::make_run(dir / "run.db");
     const auto trace = trace_policy(dir / "run.db", "best", 0, nullptr);
@@ -168,7 +168,7 @@ TEST_CASE("without a knowledge base every circle is white") {
     CHECK(circle_colour(match, 1.0).b == Approx((255.0 + (0x6B - 255.0) * 0.5) / 255.0));
 }
 
-TEST_CASE("an SVG trajectory gives every circle a hover title naming its step and segment") {
+TEST_CASE("an SVG trajectory gives every circle a hover title naming its step and segment", "[report]") {
     test::TempDir dir;
     reporttest::make_run(dir / "run.db");
     const auto behaviour = exp::replay_behaviour(dir / "run.db", "best");
@@ -188,7 +188,7 @@ TEST_CASE("an SVG trajectory gives every circle a hover title naming its step an
     CHECK(facts.title_texts.back().rfind("step 59, segment 5,", 0) == 0);
 }
 
-TEST_CASE("a start the evaluation never reached, or outside the task, is refused") {
+TEST_CASE("a start the evaluation never reached, or outside the task, is refused", "[report]") {
     test::TempDir dir;
     reporttest::make_run(dir / "run.db");
     CHECK_THROWS_WITH(trace_policy(dir / "run.db", "best", 1, nullptr),

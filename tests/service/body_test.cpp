@@ -30,7 +30,7 @@ std::string error_of(const json& rows, std::size_t width) {
 
 }  // namespace
 
-TEST_CASE("rows of numbers are packed as float32 and read back as the unpacked DOM's values") {
+TEST_CASE("rows of numbers are packed as float32 and read back as the unpacked DOM's values", "[service]") {
     const std::string text =
         R"({"m": [[0.1, 2, -3.5e-3], [1e30, 0, -0.0]], "uneven": [[1, 2], [3]], "mixed": [[1, "a"]]})";
     const json packed = parse_body(text);
@@ -55,7 +55,7 @@ TEST_CASE("rows of numbers are packed as float32 and read back as the unpacked D
     CHECK(error_of(packed["m"], 4) == "rows[0] has 3 values, the knowledge base expects 4");
 }
 
-TEST_CASE("a number beyond float32's range is refused, not read as infinity") {
+TEST_CASE("a number beyond float32's range is refused, not read as infinity", "[service]") {
     const json body = parse_body(R"({"m": [[1, 1e300]]})");
     REQUIRE(body["m"][0].is_array());  // not packed
     CHECK(error_of(body["m"], 2) == "rows[0][1] is not finite (as a 32-bit float)");

@@ -15,7 +15,7 @@
 
 using namespace stepstone;
 
-TEST_CASE("the Python client shapes a behaviour and prints the in-process r_max") {
+TEST_CASE("the Python client shapes a behaviour and prints the in-process r_max", "[service]") {
     REQUIRE(std::system("python3 --version > /dev/null 2>&1") == 0);  // scripts/setup-deps installs python3
     test::TempDir dir;
     reporttest::make_run(dir / "run.db");

@@ -44,7 +44,7 @@ int curve_points(const std::string& dom, int id) {
 
 }  // namespace
 
-TEST_CASE("the dashboard shows a campaign's runs and follows a run as it grows") {
+TEST_CASE("the dashboard shows a campaign's runs and follows a run as it grows", "[service]") {
     REQUIRE(fs::exists("/usr/bin/chromium"));
     test::TempDir dir;
     reporttest::make_campaign(dir / "camp");

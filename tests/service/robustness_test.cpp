@@ -107,7 +107,7 @@ private:
 
 }  // namespace
 
-TEST_CASE("twenty slow clients neither starve /healthz nor delay SIGTERM") {
+TEST_CASE("twenty slow clients neither starve /healthz nor delay SIGTERM", "[service]") {
     test::TempDir dir;
     reporttest::make_run(dir / "run.db");
     ServerProcess server({(dir / "run.db").string(), "--threads", "2"}, dir.path());
@@ -141,7 +141,7 @@ TEST_CASE("twenty slow clients neither starve /healthz nor delay SIGTERM") {
     CHECK(seconds_since(stopping) < 3.0);
 }
 
-TEST_CASE("serve --timeout bounds a whole request, not each read") {
+TEST_CASE("serve --timeout bounds a whole request, not each read", "[service]") {
     test::TempDir dir;
     reporttest::make_run(dir / "run.db");
     ServerProcess server({(dir / "run.db").string(), "--timeout", "2"}, dir.path());
@@ -161,7 +161,8 @@ TEST_CASE("serve --timeout bounds a whole request, not each read") {
 }
 
 TEST_CASE(
-    "a bounded fuzz of the service gets only 2xx or 4xx with short JSON errors, and the server stays up") {
+    "a bounded fuzz of the service gets only 2xx or 4xx with short JSON errors, and the server stays up",
+    "[service]") {
     test::TempDir dir;
     reporttest::make_run(dir / "run.db");
     ServerProcess server({(dir / "run.db").string(), "--max-body", "200000"}, dir.path());
@@ -277,7 +278,7 @@ TEST_CASE(
     CHECK(server.stop() == 0);
 }
 
-TEST_CASE("a shape body near the body limit costs a few times its size in memory") {
+TEST_CASE("a shape body near the body limit costs a few times its size in memory", "[service]") {
     test::TempDir dir;
     reporttest::make_run(dir / "run.db");
     ServerProcess server({(dir / "run.db").string()}, dir.path());  // the default 64 MiB body limit

@@ -96,7 +96,7 @@ json rows_of(const std::vector<float>& behaviour, std::size_t channels) {
 
 }  // namespace
 
-TEST_CASE("every endpoint answers what the library computes in process") {
+TEST_CASE("every endpoint answers what the library computes in process", "[service]") {
     test::TempDir dir;
     reporttest::make_run(dir / "run.db");
     const auto base = load(dir / "run.db", "run");
@@ -156,7 +156,7 @@ TEST_CASE("every endpoint answers what the library computes in process") {
     CHECK(server.stop() == 0);
 }
 
-TEST_CASE("bad requests get a 4xx with a JSON error naming the problem, and the server goes on") {
+TEST_CASE("bad requests get a 4xx with a JSON error naming the problem, and the server goes on", "[service]") {
     test::TempDir dir;
     reporttest::make_run(dir / "run.db");
     ServerProcess server({(dir / "run.db").string(), "--max-body", "100000"}, dir.path());
@@ -204,7 +204,7 @@ TEST_CASE("bad requests get a 4xx with a JSON error naming the problem, and the 
     CHECK(server.stop() == 0);
 }
 
-TEST_CASE("concurrent clients get the answers of one client") {
+TEST_CASE("concurrent clients get the answers of one client", "[service]") {
     test::TempDir dir;
     reporttest::make_run(dir / "run.db");
     const auto base = load(dir / "run.db", "run");
@@ -243,7 +243,7 @@ TEST_CASE("concurrent clients get the answers of one client") {
     CHECK(server.stop() == 0);
 }
 
-TEST_CASE("observations need the token, are durable when answered and equal observing in process") {
+TEST_CASE("observations need the token, are durable when answered and equal observing in process", "[service]") {
     test::TempDir dir;
     reporttest::make_run(dir / "run.db", true);  // every genome kept, to replay three of them
     REQUIRE(test::run_cli({"kb", "export", (dir / "run.db").string(), "--out", (dir / "kb.db").string()}).exit_code == 0);
@@ -310,7 +310,7 @@ TEST_CASE("observations need the token, are durable when answered and equal obse
     CHECK(std::equal(stored.values().begin(), stored.values().end(), base.values().begin()));
 }
 
-TEST_CASE("unsafe or bad serve options are refused before listening") {
+TEST_CASE("unsafe or bad serve options are refused before listening", "[service]") {
     test::TempDir dir;
     reporttest::make_run(dir / "run.db");
     test::write_file(dir / "short", "abc\n");
@@ -337,7 +337,7 @@ TEST_CASE("unsafe or bad serve options are refused before listening") {
     CHECK(missing.err_lines().at(0).find("none.db: no such file or directory") != std::string::npos);
 }
 
-TEST_CASE("a second server on a port in use is refused in one line naming the port") {
+TEST_CASE("a second server on a port in use is refused in one line naming the port", "[service]") {
     test::TempDir dir;
     reporttest::make_run(dir / "run.db");
     ServerProcess first({(dir / "run.db").string()}, dir.path());

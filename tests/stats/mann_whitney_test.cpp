@@ -37,7 +37,7 @@ void check_swap(const std::vector<double>& a, const std::vector<double>& b) {
 
 }  // namespace
 
-TEST_CASE("mann_whitney_u: Shier's diagnosis ages, the published example") {
+TEST_CASE("mann_whitney_u: Shier's diagnosis ages, the published example", "[stats]") {
     // Shier (2004), "Statistics: 2.3 The Mann-Whitney U Test" (also SciPy's
     // docstring example): U_M = 17, p = 0.11.
     // By hand: 19 beats 11 12 17, 22 beats all 4, 16 beats 11 12, 29 and 24 beat
@@ -54,7 +54,7 @@ TEST_CASE("mann_whitney_u: Shier's diagnosis ages, the published example") {
     check_swap(males, females);
 }
 
-TEST_CASE("mann_whitney_u: Hollander and Wolfe's permeability data from R's wilcox.test help") {
+TEST_CASE("mann_whitney_u: Hollander and Wolfe's permeability data from R's wilcox.test help", "[stats]") {
     // Hollander & Wolfe (1973), p. 69; R's ?wilcox.test prints W = 35 and the
     // one-sided p-value 0.1272 for alternative = "greater"; two-sided is twice it.
     // oracle.py: U = 35, p = 0.2544122544122544 (exact, enumeration of C(15, 5) = 3003).
@@ -68,7 +68,7 @@ TEST_CASE("mann_whitney_u: Hollander and Wolfe's permeability data from R's wilc
     check_swap(x, y);
 }
 
-TEST_CASE("mann_whitney_u: complete separation of 2 and 3 values") {
+TEST_CASE("mann_whitney_u: complete separation of 2 and 3 values", "[stats]") {
     // By hand: U_a = 0, U = max(0, 6) = 6; P(U >= 6) = P(U <= 0) = 1 / C(5, 2):
     // p = 2 / 10.
     const std::vector<double> a{1, 2};
@@ -80,7 +80,7 @@ TEST_CASE("mann_whitney_u: complete separation of 2 and 3 values") {
     check_swap(a, b);
 }
 
-TEST_CASE("mann_whitney_u: a small sample with ties uses the normal approximation") {
+TEST_CASE("mann_whitney_u: a small sample with ties uses the normal approximation", "[stats]") {
     // By hand: U_a = 0 (1 vs 2, 3) + 0.5 + 0.5 (each 2 vs 2, 3) = 1, U = max(1, 5) = 5.
     // The value 2 occurs 3 times: sum(t^3 - t) = 24; n = 5, mu = 3,
     // sigma^2 = 6 / 12 * (6 - 24 / 20) = 2.4, z = (5 - 3 - 0.5) / sqrt(2.4) = 0.968246,
@@ -94,7 +94,7 @@ TEST_CASE("mann_whitney_u: a small sample with ties uses the normal approximatio
     check_swap(a, b);
 }
 
-TEST_CASE("mann_whitney_u: 20 against 20 without ties") {
+TEST_CASE("mann_whitney_u: 20 against 20 without ties", "[stats]") {
     // oracle.py: U = 295, normal approximation (both sizes > 8),
     // sigma^2 = 400 / 12 * 41, z = (295 - 200 - 0.5) / sigma, p = 0.010581211443165657
     // (scipy 0.010581211443165648).
@@ -109,7 +109,7 @@ TEST_CASE("mann_whitney_u: 20 against 20 without ties") {
     check_swap(a, b);
 }
 
-TEST_CASE("mann_whitney_u: 20 against 20 rewards k/24 with many zeros") {
+TEST_CASE("mann_whitney_u: 20 against 20 rewards k/24 with many zeros", "[stats]") {
     // Ties within and across the samples (19 zeros in the pooled sample).
     // oracle.py: U = 231.5, p = 0.3755715613548539 (scipy 0.3755715613548539).
     const std::vector<double> a = over_24({8, 0, 6, 0, 2, 8, 0, 0, 0, 8, 3, 0, 12, 1, 2, 8, 2, 4, 0, 0});
@@ -121,7 +121,7 @@ TEST_CASE("mann_whitney_u: 20 against 20 rewards k/24 with many zeros") {
     check_swap(a, b);
 }
 
-TEST_CASE("mann_whitney_u: 8 against 20 without ties is exact") {
+TEST_CASE("mann_whitney_u: 8 against 20 without ties is exact", "[stats]") {
     // oracle.py: U = 53, p = 0.18160519030084246, enumeration of all
     // C(28, 8) = 3108105 assignments (scipy 0.1816051903008425).
     const std::vector<double> a{0.147, 0.543, 0.027, 0.528, 0.979, 0.863, 0.696, 0.261};
@@ -134,7 +134,7 @@ TEST_CASE("mann_whitney_u: 8 against 20 without ties is exact") {
     check_swap(a, b);
 }
 
-TEST_CASE("mann_whitney_u: the exact rule stops at a sample of 8") {
+TEST_CASE("mann_whitney_u: the exact rule stops at a sample of 8", "[stats]") {
     // 8 vs 9: exact, U = 0 + 0 + 1 + 1 + 2 + 2 + 3 + 3 = 12, p = 0.02064993829699712
     // (oracle.py, enumeration of C(17, 8) = 24310; scipy the same).
     // 9 vs 9 (9.5 added, it beats 3 5 7 9): U = 16, asymptotic, p = 0.03406919514414396
@@ -155,7 +155,7 @@ TEST_CASE("mann_whitney_u: the exact rule stops at a sample of 8") {
     check_swap(a, b);
 }
 
-TEST_CASE("mann_whitney_u: a tie inside one small sample switches to the approximation") {
+TEST_CASE("mann_whitney_u: a tie inside one small sample switches to the approximation", "[stats]") {
     const std::vector<double> a{1, 1, 5};
     const std::vector<double> b{2, 3, 4};
     CHECK(mann_whitney_u(a, b).method == Method::asymptotic);
@@ -163,7 +163,7 @@ TEST_CASE("mann_whitney_u: a tie inside one small sample switches to the approxi
     CHECK(mann_whitney_u(c, b).method == Method::exact);
 }
 
-TEST_CASE("mann_whitney_u: identical samples give p = 1") {
+TEST_CASE("mann_whitney_u: identical samples give p = 1", "[stats]") {
     // U_a = mn / 2 whatever the method: the two-sided p is capped at 1
     const std::vector<double> small{1, 2, 3};
     const MannWhitney r = mann_whitney_u(small, small);
@@ -187,7 +187,7 @@ TEST_CASE("mann_whitney_u: identical samples give p = 1") {
     CHECK(g.method == Method::asymptotic);
 }
 
-TEST_CASE("mann_whitney_u: all values equal gives p = 1") {
+TEST_CASE("mann_whitney_u: all values equal gives p = 1", "[stats]") {
     // sigma^2 = mn / 12 * ((n + 1) - (n^3 - n) / (n (n - 1))) = 0
     const std::vector<double> a{5, 5, 5};
     const std::vector<double> b{5, 5};
@@ -201,7 +201,7 @@ TEST_CASE("mann_whitney_u: all values equal gives p = 1") {
     CHECK(mann_whitney_u(one, minus_zero).p == 1.0);
 }
 
-TEST_CASE("mann_whitney_u: infinities are ordinary values") {
+TEST_CASE("mann_whitney_u: infinities are ordinary values", "[stats]") {
     const double inf = std::numeric_limits<double>::infinity();
     const std::vector<double> a{inf, 3};
     const std::vector<double> b{-inf, 1, 2};
@@ -211,7 +211,7 @@ TEST_CASE("mann_whitney_u: infinities are ordinary values") {
     CHECK(r.p == Approx(0.2).epsilon(kRel));
 }
 
-TEST_CASE("mann_whitney_u: bad input throws DataError") {
+TEST_CASE("mann_whitney_u: bad input throws DataError", "[stats]") {
     const double nan = std::numeric_limits<double>::quiet_NaN();
     const std::vector<double> empty;
     const std::vector<double> ok{1, 2};
@@ -224,7 +224,7 @@ TEST_CASE("mann_whitney_u: bad input throws DataError") {
     CHECK_THROWS_AS(mann_whitney_exact_cdf(0, 3, 1), DataError);
 }
 
-TEST_CASE("mann_whitney_exact_cdf: critical values of the published U tables") {
+TEST_CASE("mann_whitney_exact_cdf: critical values of the published U tables", "[stats]") {
     // Two-sided 5% critical values of Mann-Whitney U tables: 13 for 8/8, 23 for
     // 10/10, 127 for 20/20, i.e. P(U <= c) <= 0.025 < P(U <= c + 1).
     // Exact fractions from oracle.py (enumeration, Gaussian binomial for 20/20).
@@ -238,7 +238,7 @@ TEST_CASE("mann_whitney_exact_cdf: critical values of the published U tables") {
     CHECK(mann_whitney_exact_cdf(20, 20, 128) > 0.025);
 }
 
-TEST_CASE("mann_whitney_exact_cdf: 50 against 50 without overflow") {
+TEST_CASE("mann_whitney_exact_cdf: 50 against 50 without overflow", "[stats]") {
     // oracle.py, exact integer coefficients of [100 choose 50]_q:
     // P(U <= 0) = 1 / C(100, 50) = 1 / 100891344545564193334812497256
     CHECK(mann_whitney_exact_cdf(50, 50, 0) == Approx(9.911653021418339e-30).epsilon(kRel));
@@ -252,7 +252,7 @@ TEST_CASE("mann_whitney_exact_cdf: 50 against 50 without overflow") {
     CHECK(mann_whitney_exact_cdf(50, 50, 100000) == 1.0);
 }
 
-TEST_CASE("mann_whitney_exact_cdf: unequal sizes in either order") {
+TEST_CASE("mann_whitney_exact_cdf: unequal sizes in either order", "[stats]") {
     // oracle.py: 358 / 12341 by enumeration of C(43, 3) = 12341
     CHECK(mann_whitney_exact_cdf(3, 40, 20) == Approx(358.0 / 12341.0).epsilon(kRel));
     CHECK(mann_whitney_exact_cdf(40, 3, 20) == Approx(358.0 / 12341.0).epsilon(kRel));
@@ -260,7 +260,7 @@ TEST_CASE("mann_whitney_exact_cdf: unequal sizes in either order") {
     CHECK(mann_whitney_exact_cdf(1, 9, 3) == Approx(0.4).epsilon(kRel));
 }
 
-TEST_CASE("vargha_delaney_a12: by hand") {
+TEST_CASE("vargha_delaney_a12: by hand", "[stats]") {
     // 3 beats 1 2 and ties 3: 2.5; 4 beats all three: 3; A12 = 5.5 / 6
     const std::vector<double> a{3, 4};
     const std::vector<double> b{1, 2, 3};
@@ -282,7 +282,7 @@ TEST_CASE("vargha_delaney_a12: by hand") {
     CHECK_THROWS_AS(vargha_delaney_a12(a, with_nan), DataError);
 }
 
-TEST_CASE("holm: R's p.adjust by hand") {
+TEST_CASE("holm: R's p.adjust by hand", "[stats]") {
     // sorted 0.005 0.01 0.03 0.04 times 4 3 2 1: 0.02 0.03 0.06 0.04,
     // running max 0.02 0.03 0.06 0.06, back in input order:
     const std::vector<double> p{0.01, 0.04, 0.03, 0.005};
@@ -313,7 +313,7 @@ TEST_CASE("holm: R's p.adjust by hand") {
     CHECK(holm(std::vector<double>{}).empty());
 }
 
-TEST_CASE("holm: p-values outside 0..1 throw DataError") {
+TEST_CASE("holm: p-values outside 0..1 throw DataError", "[stats]") {
     CHECK_THROWS_AS(holm(std::vector<double>{0.1, -0.01}), DataError);
     CHECK_THROWS_AS(holm(std::vector<double>{1.5}), DataError);
     CHECK_THROWS_AS(holm(std::vector<double>{std::numeric_limits<double>::quiet_NaN()}), DataError);
