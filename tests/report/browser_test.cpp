@@ -32,7 +32,8 @@ std::string quote(const fs::path& path) { return "'" + path.string() + "'"; }
 
 }  // namespace
 
-TEST_CASE("the report of a campaign opens in headless chromium without errors or missing files", "[report][browser]") {
+TEST_CASE("the report of a campaign opens in headless chromium without errors or missing files",
+          "[report][browser]") {
     REQUIRE(fs::exists("/usr/bin/chromium"));  // scripts/setup-deps installs it
     test::TempDir dir;
     reporttest::make_campaign(dir / "camp");

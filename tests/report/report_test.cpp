@@ -159,7 +159,8 @@ TEST_CASE("a run file older than the milestones still reports, and says what it 
     CHECK(test::read_file(dir / "run.db") == before);
 }
 
-TEST_CASE("a report of a run with no generation, of a foreign file or into an unwritable place fails cleanly", "[report]") {
+TEST_CASE("a report of a run with no generation, of a foreign file or into an unwritable place fails cleanly",
+          "[report]") {
     test::TempDir dir;
     // a run row and no generation: what a run killed before its first commit leaves
     {

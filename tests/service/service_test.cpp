@@ -156,7 +156,8 @@ TEST_CASE("every endpoint answers what the library computes in process", "[servi
     CHECK(server.stop() == 0);
 }
 
-TEST_CASE("bad requests get a 4xx with a JSON error naming the problem, and the server goes on", "[service]") {
+TEST_CASE("bad requests get a 4xx with a JSON error naming the problem, and the server goes on",
+          "[service]") {
     test::TempDir dir;
     reporttest::make_run(dir / "run.db");
     ServerProcess server({(dir / "run.db").string(), "--max-body", "100000"}, dir.path());
@@ -243,7 +244,8 @@ TEST_CASE("concurrent clients get the answers of one client", "[service]") {
     CHECK(server.stop() == 0);
 }
 
-TEST_CASE("observations need the token, are durable when answered and equal observing in process", "[service]") {
+TEST_CASE("observations need the token, are durable when answered and equal observing in process",
+          "[service]") {
     test::TempDir dir;
     reporttest::make_run(dir / "run.db", true);  // every genome kept, to replay three of them
     REQUIRE(test::run_cli({"kb", "export", (dir / "run.db").string(), "--out", (dir / "kb.db").string()}).exit_code == 0);
