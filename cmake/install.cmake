@@ -5,7 +5,7 @@
 include(CMakePackageConfigHelpers)
 
 # the installable libraries in dependency order (bench is the binary's own)
-set(STEPSTONE_INSTALLED_MODULES core sim nn evo kb db stats exp report service)
+set(STEPSTONE_INSTALLED_MODULES core sim nn evo kb db stats runs exp report service)
 set(installed_targets stepstone_flags)
 foreach(module ${STEPSTONE_INSTALLED_MODULES})
     set_target_properties(stepstone_${module} PROPERTIES EXPORT_NAME ${module})

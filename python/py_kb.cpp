@@ -14,8 +14,8 @@
 #include "core/error.hpp"
 #include "core/text.hpp"
 #include "db/kb_store.hpp"
-#include "exp/kb_files.hpp"
 #include "kb/knowledge_base.hpp"
+#include "runs/kb_files.hpp"
 
 namespace stepstone::python {
 
@@ -173,14 +173,14 @@ void save(const PyKb& self, const std::string& path, const std::optional<std::st
     const std::string stored = name ? *name : (self.name.empty() ? std::string("kb") : self.name);
     kb::check_run_name(stored, "name");
     py::gil_scoped_release release;
-    exp::save_kb_file(path, force, stored, self.kb, self.randomized_seed);
+    runs::save_kb_file(path, force, stored, self.kb, self.randomized_seed);
 }
 
 PyKb open(const std::string& path, const std::optional<std::string>& name) {
     db::StoredKb stored;
     {
         py::gil_scoped_release release;
-        stored = exp::load_kb_file(path, name.value_or(""));
+        stored = runs::load_kb_file(path, name.value_or(""));
     }
     return PyKb(std::move(stored.kb), stored.name, stored.randomized_seed);
 }

@@ -13,8 +13,8 @@
 #include "bindings.hpp"
 #include "core/text.hpp"
 #include "db/database.hpp"
-#include "exp/replay.hpp"
-#include "exp/run_store.hpp"
+#include "runs/replay.hpp"
+#include "runs/run_store.hpp"
 
 namespace stepstone::python {
 
@@ -55,14 +55,14 @@ struct GenerationRec {
 struct PyRun {
     std::string path;
     std::shared_ptr<db::Connection> connection;
-    exp::RunRecord run;
+    runs::RunRecord run;
 };
 
 PyRun open_run(const std::string& path) {
     PyRun out;
     out.path = path;
     out.connection = std::make_shared<db::Connection>(db::open_database(path, db::OpenMode::read_only));
-    out.run = exp::load_run(*out.connection);
+    out.run = runs::load_run(*out.connection);
     return out;
 }
 
@@ -160,12 +160,12 @@ std::string individual_text(const py::object& individual) {
 }
 
 py::dict replay(const PyRun& self, const py::object& individual) {
-    exp::Replay facts;
+    runs::Replay facts;
     std::vector<float> behaviour;
     const std::string which = individual_text(individual);
     {
         py::gil_scoped_release release;
-        behaviour = exp::replay_behaviour(self.path, which, &facts);
+        behaviour = runs::replay_behaviour(self.path, which, &facts);
     }
     py::dict out;
     out["individual_id"] = facts.individual_id;
@@ -181,11 +181,11 @@ py::dict replay(const PyRun& self, const py::object& individual) {
 
 py::object genome(const PyRun& self, const py::object& individual) {
     const std::string which = individual_text(individual);
-    exp::StoredGenome stored;
+    runs::StoredGenome stored;
     if (which == "best") {
-        stored = exp::load_best_genome(*self.connection, self.run.id);
+        stored = runs::load_best_genome(*self.connection, self.run.id);
     } else {
-        stored = exp::load_genome(*self.connection, self.run.id, individual.cast<std::int64_t>());
+        stored = runs::load_genome(*self.connection, self.run.id, individual.cast<std::int64_t>());
     }
     return json_loads(stored.genome.dump());
 }
@@ -220,7 +220,7 @@ void bind_run(py::module_& m) {
         .def_property_readonly(
             "seed", [](const PyRun& r) { return r.run.seed; }, "the run seed")
         .def_property_readonly(
-            "status", [](const PyRun& r) { return std::string(exp::to_string(r.run.status)); },
+            "status", [](const PyRun& r) { return std::string(runs::to_string(r.run.status)); },
             "'running' or 'finished'")
         .def_property_readonly(
             "generations_asked", [](const PyRun& r) { return r.run.generations; },

@@ -8,8 +8,9 @@
 #include "commands.hpp"
 #include "core/error.hpp"
 #include "core/mpi.hpp"
-#include "exp/campaign.hpp"
-#include "exp/campaign_mpi.hpp"
+#include "evolve_flags.hpp"
+#include "exp/campaign/campaign.hpp"
+#include "exp/campaign/campaign_mpi.hpp"
 
 namespace stepstone::app {
 
@@ -28,12 +29,13 @@ struct CampaignFlags {
 
 void run_campaign_command(const CampaignFlags& flags) {
     if (flags.dry_run) {
-        const auto config = exp::CampaignConfig::load(flags.config);
+        const auto config = runs::CampaignConfig::load(flags.config);
         exp::write_plan(std::cout, config, exp::estimate_cost(config), flags.jobs);
         return;
     }
     exp::CampaignOptions options;
     options.config_path = flags.config;
+    options.run_command = evolve_run_command();
     options.dir = flags.dir;
     options.jobs = flags.jobs;
     options.threads = flags.threads;

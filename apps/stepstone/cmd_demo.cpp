@@ -8,10 +8,11 @@
 #include "core/error.hpp"
 #include "db/database.hpp"
 #include "db/kb_store.hpp"
-#include "exp/campaign.hpp"
-#include "exp/campaign_stats.hpp"
-#include "exp/replay.hpp"
+#include "evolve_flags.hpp"
+#include "exp/campaign/campaign.hpp"
 #include "report/report.hpp"
+#include "runs/campaign_stats.hpp"
+#include "runs/replay.hpp"
 
 namespace stepstone::app {
 
@@ -41,6 +42,7 @@ void run_demo(const DemoFlags& flags) {
               << (resume ? " (resumed: finished runs are kept)" : "") << std::endl;
     exp::CampaignOptions options;
     options.config_path = config;
+    options.run_command = evolve_run_command();
     options.dir = camp;
     options.jobs = flags.jobs;
     options.resume = resume;
@@ -51,7 +53,7 @@ void run_demo(const DemoFlags& flags) {
 
     // 2. the best source policy replays to its stored reward
     const fs::path source = camp / "source" / "seed-1.db";
-    const auto replayed = exp::replay(source, "best");
+    const auto replayed = runs::replay(source, "best");
     std::cout << "== replay of the best source policy (individual " << replayed.individual_id << "): reward "
               << replayed.result.reward << ", stored " << replayed.stored_reward
               << (replayed.result.reward == replayed.stored_reward ? " (identical)" : " (DIFFERENT)") << "\n";
@@ -69,7 +71,7 @@ void run_demo(const DemoFlags& flags) {
 
     // 4. the statistics of the target runs (the paper's Fig. 6, Fig. 7 and appendix)
     std::cout << "== statistics (stepstone stats " << camp.string() << ")\n";
-    exp::write_text(std::cout, exp::campaign_stats(camp, std::nullopt, 0.5));
+    runs::write_text(std::cout, runs::campaign_stats(camp, std::nullopt, 0.5));
     std::cout
         << "   a demo is one small sample (a few seeds, a few dozen generations): it shows the machinery,\n"
            "   not whether the KB helps. What the pre-registered experiments found (docs/results.md,\n"

@@ -11,15 +11,15 @@
 #include "commands.hpp"
 #include "core/error.hpp"
 #include "core/text.hpp"
-#include "exp/kb_duplicates.hpp"
-#include "exp/run_store.hpp"
 #include "kb_output.hpp"
+#include "runs/kb_duplicates.hpp"
+#include "runs/run_store.hpp"
 
 namespace stepstone::app {
 
 namespace {
 
-void print_written(const std::string& out, const exp::KbWritten& kb) {
+void print_written(const std::string& out, const runs::KbWritten& kb) {
     write_written(std::cout, out, kb);
     // what evolve says when such a KB shapes a run, said when it is made
     if (!(kb.max_average > 0.0)) {
@@ -35,7 +35,7 @@ void print_written(const std::string& out, const exp::KbWritten& kb) {
 struct ExportFlags {
     std::string run;
     std::string out;
-    std::string input_name = exp::kRunKbName;
+    std::string input_name = runs::kRunKbName;
     std::string name;
     std::optional<double> delta;
     bool force = false;
@@ -55,8 +55,8 @@ void add_export(CLI::App& kb_cmd) {
     cmd->footer(example({"stepstone kb export run.db --out kb.db",
                          "stepstone kb export run.db --out kb-coarse.db --delta 4"}));
     cmd->callback([flags] {
-        print_written(flags->out, exp::export_kb(flags->run, flags->input_name, flags->out, flags->force,
-                                                 flags->delta, flags->name));
+        print_written(flags->out, runs::export_kb(flags->run, flags->input_name, flags->out, flags->force,
+                                                  flags->delta, flags->name));
     });
 }
 
@@ -89,9 +89,9 @@ void add_merge(CLI::App& kb_cmd) {
     cmd->callback([flags] {
         std::vector<std::filesystem::path> inputs(flags->inputs.begin(), flags->inputs.end());
         try {
-            print_written(flags->out, exp::merge_kb_files(inputs, flags->out, flags->name, flags->force,
-                                                          flags->input_name, flags->allow_duplicates));
-        } catch (const exp::DuplicateKbs& e) {
+            print_written(flags->out, runs::merge_kb_files(inputs, flags->out, flags->name, flags->force,
+                                                           flags->input_name, flags->allow_duplicates));
+        } catch (const runs::DuplicateKbs& e) {
             throw ConfigError(concat(e.what(), " (use --allow-duplicates to merge anyway)"));
         }
     });
@@ -120,8 +120,8 @@ void add_randomize(CLI::App& kb_cmd) {
     cmd->add_flag("--force", flags->force, "Overwrite an existing --out file");
     cmd->footer(example({"stepstone kb randomize merged.db --out rand.db --seed 7"}));
     cmd->callback([flags] {
-        print_written(flags->out, exp::randomize_kb_file(flags->in, flags->out, flags->seed, flags->name,
-                                                         flags->force, flags->input_name));
+        print_written(flags->out, runs::randomize_kb_file(flags->in, flags->out, flags->seed, flags->name,
+                                                          flags->force, flags->input_name));
     });
 }
 
@@ -201,7 +201,7 @@ void add_stats(CLI::App& kb_cmd) {
     cmd->add_flag("--json", flags->json, "Print JSON instead of text");
     cmd->footer(example({"stepstone kb stats kb.db", "stepstone kb stats run.db --kb-name run --json"}));
     cmd->callback([flags] {
-        const auto stats = exp::kb_file_stats(flags->kb, flags->input_name);
+        const auto stats = runs::kb_file_stats(flags->kb, flags->input_name);
         if (flags->json) {
             std::cout << to_json(stats).dump(2) << '\n';
         } else {

@@ -7,9 +7,9 @@
 #include "core/error.hpp"
 #include "core/output_file.hpp"
 #include "core/text.hpp"
-#include "exp/pooled_stats.hpp"
 #include "report/canvas.hpp"
 #include "report/event_figures.hpp"
+#include "runs/pooled_stats.hpp"
 
 namespace stepstone::app {
 
@@ -48,7 +48,7 @@ void add_pool_command(CLI::App& app) {
                  "stepstone pool --runs r1.csv --runs r2.csv --events e1.csv --events e2.csv --event ball "
                  "--logrank-csv logrank.csv --kaplan-meier km.png"}));
     cmd->callback([flags] {
-        const exp::Milestone event = exp::parse_milestone(flags->event, "--event");
+        const runs::Milestone event = runs::parse_milestone(flags->event, "--event");
         for (const auto* path : {&flags->runs_csv, &flags->tests_csv, &flags->events_csv, &flags->logrank_csv,
                                  &flags->kaplan_meier}) {
             if (!path->empty()) check_output_target(*path, flags->force);
@@ -57,17 +57,17 @@ void add_pool_command(CLI::App& app) {
         if (!flags->kaplan_meier.empty()) figure_format = report::format_of(flags->kaplan_meier);
         const std::vector<std::filesystem::path> runs(flags->runs.begin(), flags->runs.end());
         const std::vector<std::filesystem::path> events(flags->events.begin(), flags->events.end());
-        const auto stats = exp::pool_stats(runs, events, flags->threshold);
-        exp::write_pooled_text(std::cout, stats, event);
+        const auto stats = runs::pool_stats(runs, events, flags->threshold);
+        runs::write_pooled_text(std::cout, stats, event);
         write_output(flags->runs_csv, flags->force,
-                     [&](std::ostream& out) { exp::write_run_rows(out, stats.runs); });
+                     [&](std::ostream& out) { runs::write_run_rows(out, stats.runs); });
         write_output(flags->tests_csv, flags->force,
-                     [&](std::ostream& out) { exp::write_pair_tests_csv(out, stats.tests); });
+                     [&](std::ostream& out) { runs::write_pair_tests_csv(out, stats.tests); });
         write_output(flags->events_csv, flags->force, [&](std::ostream& out) {
-            exp::write_events_csv(out, stats.run_events, stats.generation);
+            runs::write_events_csv(out, stats.run_events, stats.generation);
         });
         write_output(flags->logrank_csv, flags->force,
-                     [&](std::ostream& out) { exp::write_logrank_csv(out, stats.events); });
+                     [&](std::ostream& out) { runs::write_logrank_csv(out, stats.events); });
         if (figure_format) {
             report::Canvas canvas(report::kPanelFigureWidth, report::kPanelFigureHeight, *figure_format);
             report::draw_kaplan_meier(canvas, stats.events);

@@ -10,7 +10,7 @@
 #include "core/text.hpp"
 #include "db/database.hpp"
 #include "db/user_query.hpp"
-#include "exp/export.hpp"
+#include "runs/export.hpp"
 
 namespace stepstone::app {
 
@@ -85,10 +85,10 @@ void add_export_command(CLI::App& app) {
                          "stepstone export camp --what individuals --csv individuals.csv",
                          "python3 -c \"import pandas; print(pandas.read_csv('generations.csv'))\""}));
     cmd->callback([flags] {
-        const auto what = exp::parse_export_what(flags->what, "--what");
+        const auto what = runs::parse_export_what(flags->what, "--what");
         check_output_target(flags->csv, flags->force);
         OutputFile out(flags->csv, flags->force);
-        const std::size_t rows = exp::export_csv(flags->input, what, out.stream());
+        const std::size_t rows = runs::export_csv(flags->input, what, out.stream());
         out.commit();
         std::cout << flags->csv << ": " << rows << " rows\n";
     });

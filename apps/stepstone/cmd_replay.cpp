@@ -10,7 +10,7 @@
 #include "core/error.hpp"
 #include "core/output_file.hpp"
 #include "core/text.hpp"
-#include "exp/replay.hpp"
+#include "runs/replay.hpp"
 #include "sim/sensors.hpp"
 #include "sim/step_csv.hpp"
 
@@ -30,8 +30,8 @@ struct ReplayFlags {
 // service's /shape, and the file examples/python/kb_client.py reads
 void write_behaviour_json(const ReplayFlags& flags) {
     if (flags.behaviour_json.empty()) return;
-    exp::Replay facts;
-    const std::vector<float> values = exp::replay_behaviour(flags.db, flags.individual, &facts);
+    runs::Replay facts;
+    const std::vector<float> values = runs::replay_behaviour(flags.db, flags.individual, &facts);
     nlohmann::json rows = nlohmann::json::array();
     for (std::size_t at = 0; at + std::size_t{sim::kChannels} <= values.size();
          at += std::size_t{sim::kChannels}) {
@@ -49,13 +49,13 @@ void write_behaviour_json(const ReplayFlags& flags) {
 void run_replay(const ReplayFlags& flags) {
     if (!flags.csv.empty()) check_output_target(flags.csv, flags.force);
     if (!flags.behaviour_json.empty()) check_output_target(flags.behaviour_json, flags.force);
-    exp::Replay replayed;
+    runs::Replay replayed;
     if (flags.csv.empty()) {
-        replayed = exp::replay(flags.db, flags.individual);
+        replayed = runs::replay(flags.db, flags.individual);
     } else {
         // rows go to a temporary file, renamed once the replay is complete
         OutputFile output(flags.csv, flags.force);
-        replayed = exp::replay(flags.db, flags.individual, sim::StepCsvWriter(output.stream()));
+        replayed = runs::replay(flags.db, flags.individual, sim::StepCsvWriter(output.stream()));
         output.commit();
     }
     std::cout << "individual " << replayed.individual_id << " (generation " << replayed.generation << ")\n"

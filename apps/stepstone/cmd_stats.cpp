@@ -7,7 +7,7 @@
 #include "core/error.hpp"
 #include "core/output_file.hpp"
 #include "core/text.hpp"
-#include "exp/campaign_stats.hpp"
+#include "runs/campaign_stats.hpp"
 
 namespace stepstone::app {
 
@@ -68,7 +68,7 @@ void add_stats_command(CLI::App& app) {
         if (!(flags->threshold >= 0.0 && flags->threshold <= 1.0)) {
             throw ConfigError(concat("--threshold must be within [0, 1], got ", flags->threshold));
         }
-        const exp::Milestone event = exp::parse_milestone(flags->event, "--event");
+        const runs::Milestone event = runs::parse_milestone(flags->event, "--event");
         // every output is checked before anything is computed or printed
         for (const auto* path :
              {&flags->csv, &flags->runs_csv, &flags->tests_csv, &flags->events_csv, &flags->logrank_csv}) {
@@ -76,23 +76,23 @@ void add_stats_command(CLI::App& app) {
         }
         std::optional<int> generation;
         if (flags->generation != -1) generation = flags->generation;
-        const auto stats = exp::campaign_stats(flags->dir, generation, flags->threshold, flags->available,
-                                               flags->signal_window);
+        const auto stats = runs::campaign_stats(flags->dir, generation, flags->threshold, flags->available,
+                                                flags->signal_window);
         // time-to-event outputs asked of runs without milestones: refused before anything is written
         const bool events_asked =
             !flags->events_csv.empty() || !flags->logrank_csv.empty() || event_option->count() > 0;
-        if (events_asked) exp::require_events(stats);
-        exp::write_text(std::cout, stats, event);
+        if (events_asked) runs::require_events(stats);
+        runs::write_text(std::cout, stats, event);
         write_output(flags->csv, flags->force,
-                     [&](std::ostream& out) { exp::write_success_csv(out, stats); });
+                     [&](std::ostream& out) { runs::write_success_csv(out, stats); });
         write_output(flags->runs_csv, flags->force,
-                     [&](std::ostream& out) { exp::write_runs_csv(out, stats); });
+                     [&](std::ostream& out) { runs::write_runs_csv(out, stats); });
         write_output(flags->tests_csv, flags->force,
-                     [&](std::ostream& out) { exp::write_tests_csv(out, stats); });
+                     [&](std::ostream& out) { runs::write_tests_csv(out, stats); });
         write_output(flags->events_csv, flags->force,
-                     [&](std::ostream& out) { exp::write_events_csv(out, stats); });
+                     [&](std::ostream& out) { runs::write_events_csv(out, stats); });
         write_output(flags->logrank_csv, flags->force,
-                     [&](std::ostream& out) { exp::write_logrank_csv(out, stats); });
+                     [&](std::ostream& out) { runs::write_logrank_csv(out, stats); });
     });
 }
 

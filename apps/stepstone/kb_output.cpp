@@ -18,7 +18,7 @@ std::string optional_seed_text(const std::optional<std::uint64_t>& seed) {
 
 }  // namespace
 
-void write_written(std::ostream& out, const std::string& file, const exp::KbWritten& kb) {
+void write_written(std::ostream& out, const std::string& file, const runs::KbWritten& kb) {
     out << file << ": knowledge base \"" << kb.name << "\", " << kb.segments << " segments (segment_width "
         << kb.params.segment_width << ", channels " << kb.params.channels << ", delta " << kb.params.delta
         << ")";
@@ -71,7 +71,7 @@ void write_text(std::ostream& out, const exp::RunCalibration& result) {
     }
 }
 
-nlohmann::json to_json(const exp::KbStats& stats) {
+nlohmann::json to_json(const runs::KbStats& stats) {
     nlohmann::json out;
     out["file"] = stats.file;
     out["name"] = stats.name;
@@ -101,7 +101,7 @@ nlohmann::json to_json(const exp::KbStats& stats) {
     return out;
 }
 
-void write_text(std::ostream& out, const exp::KbStats& stats) {
+void write_text(std::ostream& out, const runs::KbStats& stats) {
     out << "knowledge base  \"" << stats.name << "\" in " << stats.file << '\n'
         << "segments        " << stats.segments << '\n'
         << "segment_width   " << stats.params.segment_width << '\n'

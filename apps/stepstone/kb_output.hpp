@@ -9,22 +9,22 @@
 
 #include "exp/kb_apply.hpp"
 #include "exp/kb_calibrate.hpp"
-#include "exp/kb_files.hpp"
-#include "exp/kb_stats.hpp"
+#include "runs/kb_files.hpp"
+#include "runs/kb_stats.hpp"
 
 namespace stepstone::app {
 
 /// "<file>: knowledge base "<name>", N segments (...)": what export, merge and randomize wrote.
-void write_written(std::ostream& out, const std::string& file, const exp::KbWritten& kb);
+void write_written(std::ostream& out, const std::string& file, const runs::KbWritten& kb);
 
 /// The flag, "the run's knowledge base" or "default".
 std::string width_source_text(exp::WidthSource source);
 nlohmann::json to_json(const exp::RunCalibration& result);
 void write_text(std::ostream& out, const exp::RunCalibration& result);
 
-nlohmann::json to_json(const exp::KbStats& stats);
+nlohmann::json to_json(const runs::KbStats& stats);
 /// The text report: parameters, the histogram with a bar of '#', counts, provenance.
-void write_text(std::ostream& out, const exp::KbStats& stats);
+void write_text(std::ostream& out, const runs::KbStats& stats);
 
 nlohmann::json to_json(const exp::Shaping& shaping);
 void write_text(std::ostream& out, const exp::Shaping& shaping);

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <iostream>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -62,8 +63,27 @@ constexpr int kExitUsage = 2;
 constexpr int kExitInternal = 70;
 constexpr int kExitInterrupted = 130;
 
+// the library names the options of its calls (`force`, `token_file`); the CLI
+// spells them as its flags: --force, --token-file, and the few whose flag is
+// not the option's name with dashes
+std::string as_flags(const std::string& message) {
+    return stepstone::spell_options(message, [](std::string_view name) {
+        static const std::pair<std::string_view, std::string_view> renamed[] = {
+            {"timeout_seconds", "--timeout"},
+            {"config_path", "--config"},
+            {"runs_files", "--runs"},
+            {"events_files", "--events"}};
+        for (const auto& [option, flag] : renamed) {
+            if (name == option) return std::string(flag);
+        }
+        std::string flag = "--" + std::string(name);
+        std::replace(flag.begin(), flag.end(), '_', '-');
+        return flag;
+    });
+}
+
 int fail(const std::string& message, int code) {
-    std::cerr << "stepstone: error: " << stepstone::one_line(message) << std::endl;
+    std::cerr << "stepstone: error: " << stepstone::one_line(as_flags(message)) << std::endl;
     return code;
 }
 
@@ -205,7 +225,7 @@ int main(int argc, char** argv) {
         }
         return fail(unknown.empty() ? std::string(e.what()) : unknown, kExitUsage);
     } catch (const stepstone::Interrupted& e) {
-        std::cerr << "stepstone: interrupted: " << stepstone::one_line(e.what()) << std::endl;
+        std::cerr << "stepstone: interrupted: " << stepstone::one_line(as_flags(e.what())) << std::endl;
         return kExitInterrupted;
     } catch (const stepstone::ConfigError& e) {
         return fail(e.what(), kExitUsage);

@@ -10,8 +10,8 @@ namespace stepstone::bench {
 
 namespace {
 
-exp::EvolveConfig evolve_config(Size size) {
-    exp::EvolveConfig config;
+runs::EvolveConfig evolve_config(Size size) {
+    runs::EvolveConfig config;
     config.seed = 3;
     if (size == Size::full) {
         // the paper's: population 200, 3 starts x 4000 steps

@@ -52,7 +52,7 @@ const kb::KnowledgeBase& source_kb(Size size, double delta) {
         if (!line.empty() && (size == Size::full || k % 5 == 0))
             genomes.push_back(nn::Genome::from_json(nlohmann::json::parse(line)));
 
-    const exp::EvolveConfig config;  // the source task of the paper's runs
+    const runs::EvolveConfig config;  // the source task of the paper's runs
     const auto task = sim::make_task(config.task);
     std::vector<float> behaviours;
     const auto evaluations = exp::evaluate_all(*task, genomes, config.dnn, 0, &behaviours);
@@ -79,11 +79,11 @@ Work side(Size size, const kb::KnowledgeBase* kb) {
     // compares trajectories of the stored length)
     if (size == Size::quick)
         state->at("population").erase(state->at("population").begin() + 12, state->at("population").end());
-    exp::EvolveConfig config;
+    runs::EvolveConfig config;
     config.task.kind = sim::TaskKind::target;
     config.ea.population_size = static_cast<int>(state->at("population").size());
     auto evolution = std::make_shared<exp::Evolution>(config, 11, 1);
-    if (kb != nullptr) evolution->attach_shaping(*kb, exp::Treatment::sum);
+    if (kb != nullptr) evolution->attach_shaping(*kb, runs::Treatment::sum);
     return [evolution, state] {
         evolution->restore(*state);
         return static_cast<std::uint64_t>(evolution->epoch().stats.evaluations);

@@ -40,7 +40,8 @@ std::string host_name() {
 void require_built() {
     if (!built()) {
         throw ConfigError(
-            "--mpi: this stepstone was built without Open MPI (install libopenmpi-dev and rebuild)");
+            concat(option_name("mpi"),
+                   ": this stepstone was built without Open MPI (install libopenmpi-dev and rebuild)"));
     }
 }
 

@@ -12,7 +12,8 @@ void check_output_target(const std::filesystem::path& path, bool force) {
     std::error_code ec;
     if (fs::is_directory(path, ec)) throw ConfigError(concat(path.string(), ": is a directory"));
     if (fs::exists(path, ec) && !force) {
-        throw ConfigError(concat(path.string(), ": already exists (use --force to overwrite)"));
+        throw ConfigError(
+            concat(path.string(), ": already exists (use ", option_name("force"), " to overwrite)"));
     }
     const fs::path folder = path.parent_path();
     if (!folder.empty() && !fs::is_directory(folder, ec)) {

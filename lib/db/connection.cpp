@@ -67,8 +67,8 @@ std::string hint_for(sqlite3* db) {
     if (!db) return "";
     const int code = sqlite3_extended_errcode(db);
     if (code == SQLITE_READONLY_RECOVERY || code == SQLITE_READONLY_CANTINIT || code == SQLITE_READONLY_ROLLBACK) {
-        return " (the file was left mid-write by a killed program: resume it, e.g. stepstone evolve --resume, "
-               "or open it once for writing, e.g. stepstone db migrate)";
+        return " (the file was left mid-write by a killed program: resume the run that wrote it, "
+               "or open it once for writing, e.g. by migrating it)";
     }
     return "";
 }

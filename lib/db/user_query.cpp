@@ -118,15 +118,18 @@ void run_user_query(Connection& connection, const std::string& name,
     for (const auto& [key, value] : params) {
         const std::string colon = key.starts_with(":") ? key : ":" + key;
         if (std::find(query.parameters.begin(), query.parameters.end(), colon) == query.parameters.end()) {
-            throw ConfigError(concat("--param ", key, ": query ", query.name, " has no parameter ", colon,
+            throw ConfigError(concat(option_name("param"), " ", key, ": query ", query.name,
+                                     " has no parameter ", colon,
                                      " (its parameters: ", joined(query.parameters), ")"));
         }
-        if (!seen.insert(colon).second) throw ConfigError(concat("--param ", key, " is given twice"));
+        if (!seen.insert(colon).second)
+            throw ConfigError(concat(option_name("param"), " ", key, " is given twice"));
         given.emplace_back(colon, value);
     }
     for (const auto& parameter : query.parameters) {
         if (!seen.count(parameter)) {
-            throw ConfigError(concat("query ", query.name, " needs --param ", parameter.substr(1),
+            throw ConfigError(concat("query ", query.name, " needs ", option_name("param"), " ",
+                                     parameter.substr(1),
                                      "=VALUE (its parameters: ", joined(query.parameters), ")"));
         }
     }

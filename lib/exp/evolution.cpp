@@ -73,10 +73,10 @@ double shaped_r_max(const kb::KnowledgeBase& kb, std::span<const float> behaviou
     return kb.r_max(kb::segment_behaviour(behaviour, sim::kChannels, kb.params().segment_width));
 }
 
-Evolution::Evolution(const EvolveConfig& config, std::uint64_t seed, unsigned threads)
+Evolution::Evolution(const runs::EvolveConfig& config, std::uint64_t seed, unsigned threads)
     : config_(config), seed_(seed), threads_(resolve_threads(threads)), task_(sim::make_task(config.task)) {}
 
-GenerationWrite Evolution::initialise() {
+runs::GenerationWrite Evolution::initialise() {
     const double started = now_seconds();
     generation_ = 0;
     const auto count = static_cast<std::size_t>(config_.ea.initial_multiplier * config_.ea.population_size);
@@ -93,7 +93,7 @@ GenerationWrite Evolution::initialise() {
     return select(std::move(mixed), 0, started);
 }
 
-GenerationWrite Evolution::epoch() {
+runs::GenerationWrite Evolution::epoch() {
     const double started = now_seconds();
     ++generation_;
     const auto g = static_cast<std::uint64_t>(generation_);
@@ -149,7 +149,7 @@ void Evolution::attach_kb(kb::KnowledgeBase kb, std::int64_t kb_id, const std::s
     kb_source_ = kb_->add_source(source_name);
 }
 
-void Evolution::attach_shaping(kb::KnowledgeBase kb, Treatment treatment) {
+void Evolution::attach_shaping(kb::KnowledgeBase kb, runs::Treatment treatment) {
     shaping_max_average_ = kb.max_average();
     shaping_kb_ = std::move(kb);
     treatment_ = treatment;
@@ -194,7 +194,7 @@ std::vector<Evaluation> Evolution::evaluate(const std::vector<nn::Genome>& genom
     return evaluations;
 }
 
-GenerationWrite Evolution::select(std::vector<Member> mixed, std::size_t first_new, double started) {
+runs::GenerationWrite Evolution::select(std::vector<Member> mixed, std::size_t first_new, double started) {
     // diversity of every member of the mixed population (docs/original.md: diversity),
     // reusing the distances between members already seen
     std::vector<std::uint64_t> ids;
@@ -218,7 +218,7 @@ GenerationWrite Evolution::select(std::vector<Member> mixed, std::size_t first_n
     const auto kept = evo::survivors(objectives, static_cast<std::size_t>(config_.ea.population_size));
     const double selection_done = now_seconds();
 
-    GenerationWrite write;
+    runs::GenerationWrite write;
     auto& stats = write.stats;
     stats.generation = generation_;
     stats.evaluations = static_cast<std::int64_t>(mixed.size() - first_new);
@@ -229,7 +229,7 @@ GenerationWrite Evolution::select(std::vector<Member> mixed, std::size_t first_n
     // rows of the individuals evaluated in this generation
     for (std::size_t k = first_new; k < mixed.size(); ++k) {
         const Member& m = mixed[k];
-        IndividualRow row;
+        runs::IndividualRow row;
         row.id = m.id;
         row.generation = generation_;
         row.parent_id = m.parent_id;
@@ -253,7 +253,7 @@ GenerationWrite Evolution::select(std::vector<Member> mixed, std::size_t first_n
     }
     std::vector<std::size_t> stored(ranking.fronts.front().begin(), ranking.fronts.front().end());
     stored.push_back(best);
-    if (config_.retain == Retain::all) {
+    if (config_.retain == runs::Retain::all) {
         for (std::size_t k = first_new; k < mixed.size(); ++k) stored.push_back(k);
     }
     std::sort(stored.begin(), stored.end());
@@ -316,242 +316,6 @@ void Evolution::restore(const nlohmann::json& state) {
         throw DataError(concat("checkpoint is malformed: ", one_line(e.what())));
     }
     diversity_.clear();
-}
-
-// ---------------------------------------------------------------- run_evolve
-
-namespace {
-
-// the config as compared on resume: the KB file may move, its digest may not
-nlohmann::json comparable(nlohmann::json config) {
-    if (config.contains("transfer")) config["transfer"].erase("kb");
-    return config;
-}
-
-// Applies the command line's transfer flags; on resume, a run created with a
-// transfer block keeps it when neither the config nor the flags name one.
-void apply_transfer_options(EvolveConfig& config, const EvolveOptions& options, const RunRecord* stored) {
-    if (options.treatment || options.kb || options.kb_name) {
-        if (!config.transfer) config.transfer = TransferConfig{};
-        if (options.treatment) config.transfer->treatment = *options.treatment;
-        if (options.kb) config.transfer->kb = *options.kb;
-        if (options.kb_name) config.transfer->kb_name = *options.kb_name;
-    }
-    if (!config.transfer && stored && stored->config.contains("transfer")) {
-        config.transfer = EvolveConfig::from_json(stored->config, "the run's stored config").transfer;
-    }
-    if (!config.transfer) return;
-    auto& transfer = *config.transfer;
-    if (transfer.treatment == Treatment::none && transfer.kb.empty()) {
-        config.transfer.reset();
-        return;
-    }
-    if (transfer.kb.empty()) {
-        throw ConfigError(concat("treatment ", to_string(transfer.treatment),
-                                 " needs a knowledge base (--kb KB.db or transfer.kb)"));
-    }
-}
-
-}  // namespace
-
-kb::KnowledgeBase load_shaping_kb(EvolveConfig& config) {
-    auto& transfer = *config.transfer;
-    const std::string file = transfer.kb.string();
-    db::StoredKb stored = [&] {
-        db::Connection connection = db::open_database(transfer.kb, db::OpenMode::read_only);
-        return db::load_kb(connection, transfer.kb_name);
-    }();
-    const auto& params = stored.kb.params();
-    if (params.channels != static_cast<std::size_t>(sim::kChannels)) {
-        throw ConfigError(concat(file, ": the knowledge base has ", params.channels,
-                                 " channels per step, the robot's behaviour has ", sim::kChannels));
-    }
-    if (params.segment_width > static_cast<std::size_t>(config.task.steps_per_start)) {
-        throw ConfigError(concat(file, ": the knowledge base's segments are ", params.segment_width,
-                                 " steps wide, longer than an episode start (", config.task.steps_per_start,
-                                 " steps)"));
-    }
-    const bool randomized = stored.randomized_seed.has_value();
-    if (needs_randomized_kb(transfer.treatment) && !randomized) {
-        throw ConfigError(concat(file, ": treatment ", to_string(transfer.treatment),
-                                 " needs a randomized knowledge base (make one with stepstone kb randomize)"));
-    }
-    if (!needs_randomized_kb(transfer.treatment) && needs_kb(transfer.treatment) && randomized) {
-        throw ConfigError(concat(file, ": the knowledge base is randomized; use treatment ",
-                                 transfer.treatment == Treatment::sum ? "sum-rand" : "mo-rand", " with it"));
-    }
-    const std::string digest = db::kb_digest(stored.kb, stored.randomized_seed);
-    if (!transfer.kb_digest.empty() && transfer.kb_digest != digest) {
-        throw ConfigError(concat(file, ": the knowledge base differs from the one the run was started with"));
-    }
-    transfer.kb_digest = digest;
-    transfer.kb_name = stored.name;
-    transfer.kb = std::filesystem::absolute(transfer.kb).lexically_normal();
-    return std::move(stored.kb);
-}
-
-namespace {
-
-kb::KbParams kb_params(const KbConfig& config) {
-    kb::KbParams params;
-    params.segment_width = static_cast<std::size_t>(config.segment_width);
-    params.channels = static_cast<std::size_t>(sim::kChannels);
-    params.delta = config.delta;
-    params.match = db::parse_match(config.match, "kb.match");
-    params.validate();
-    return params;
-}
-
-}  // namespace
-
-EvolveSummary run_evolve(const EvolveOptions& options) {
-    // Ctrl-C and SIGTERM stop at the next generation boundary; taken first, so that a signal
-    // while the run is set up (a large KB loads for seconds) stops it there too, not by the
-    // default action
-    std::optional<InterruptGuard> interrupts;
-    if (options.stop_on_signals) interrupts.emplace();
-    const std::string name = options.db_path.string();
-    if (options.config_path.empty() && !options.resume) {
-        throw ConfigError("--config is required (except with --resume, which reads the run's stored config)");
-    }
-    if (!options.resume && !options.force && std::filesystem::exists(options.db_path)) {
-        throw ConfigError(concat(name, ": already exists; continue it with --resume (or replace it with --force)"));
-    }
-    if (!options.resume) db::check_output_path(options.db_path, options.force);
-    if (options.resume && !std::filesystem::exists(options.db_path)) {
-        throw DatabaseError(concat(name, ": no such file (start the run without --resume)"));
-    }
-    // one writer per run file, refused at once (readers never take the lock)
-    const WriterLock lock(options.db_path);
-
-    // everything the run needs is loaded and checked before a file is written; a resumed
-    // file is opened for writing at once, so that the WAL of a killed run is recovered
-    std::optional<db::Connection> resumed;
-    std::optional<RunRecord> stored_run;
-    if (options.resume) {
-        resumed = db::open_database(options.db_path, db::OpenMode::read_write);
-        stored_run = load_run(*resumed);
-    }
-    EvolveConfig config = options.config_path.empty()
-                              ? EvolveConfig::from_json(stored_run->config, name + " (stored config)")
-                              : EvolveConfig::load(options.config_path);
-    if (options.retain) config.retain = *options.retain;
-    if (options.generations) config.ea.generations = *options.generations;
-    if (options.seed) config.seed = *options.seed;
-    apply_transfer_options(config, options, stored_run ? &*stored_run : nullptr);
-    if (config.transfer && stored_run && stored_run->config.contains("transfer") &&
-        !options.allow_config_change) {
-        // resuming: the digest to check the KB against is the stored one
-        config.transfer->kb_digest = stored_run->config["transfer"].value("kb_digest", "");
-    }
-    std::optional<kb::KnowledgeBase> shaping;
-    // messages name the KB as it was given; the stored config holds its absolute path (for resumes)
-    const std::string kb_given = config.transfer ? config.transfer->kb.string() : std::string();
-    if (config.transfer) shaping = load_shaping_kb(config);
-    if (shaping && needs_kb(config.treatment()) && !(shaping->max_average() > 0.0)) {
-        std::cerr << "stepstone: warning: " << kb_given
-                  << ": the knowledge base's largest average reward is 0, so r_max is 0 for every policy and "
-                  << to_string(config.treatment()) << " selects as none would\n";
-    }
-
-    db::Connection connection = [&] {
-        if (resumed) return std::move(*resumed);
-        // the run row is written under a temporary name and moved into place whole
-        {
-            db::OutputDatabase output(options.db_path, options.force);
-            if (!config.seed) config.seed = fresh_seed() >> 1;
-            RunRecord run;
-            run.task = std::string(sim::to_string(config.task.kind));
-            run.treatment = std::string(to_string(config.treatment()));
-            run.seed = static_cast<std::int64_t>(*config.seed);
-            run.config = config.to_json();
-            run.generations = config.ea.generations;
-            insert_run(output.connection(), run, full_version());
-            if (config.kb)
-                db::insert_kb(output.connection(), kRunKbName, kb::KnowledgeBase(kb_params(*config.kb)));
-            output.commit();
-        }
-        return db::open_database(options.db_path, db::OpenMode::read_write);
-    }();
-
-    RunRecord run = load_run(connection);
-    if (options.resume) {
-        // the stored seed is the run's unless the user names another one
-        if (!options.seed && run.config.contains("seed")) config.seed = run.config["seed"].get<std::uint64_t>();
-        const std::string diff = first_difference(comparable(run.config), comparable(config.to_json()), "");
-        if (!diff.empty() && !options.allow_config_change) {
-            throw ConfigError(concat(name, ": the config differs from the run's at ", diff,
-                                     " (use --allow-config-change to resume anyway)"));
-        }
-        if (!options.generations) config.ea.generations = run.generations;
-    }
-    db::start_writing(connection);
-    const std::uint64_t seed = static_cast<std::uint64_t>(run.seed);
-
-    Evolution evolution(config, seed, options.threads);
-    if (auto state = load_checkpoint(connection, run.id)) evolution.restore(*state);
-    if (config.kb) {
-        // the KB was written in the same transactions as the checkpoint, so the two agree
-        auto stored = db::load_kb(connection, kRunKbName);
-        evolution.attach_kb(std::move(stored.kb), stored.id, concat("seed-", seed));
-    }
-    if (shaping) evolution.attach_shaping(std::move(*shaping), config.treatment());
-    std::unique_ptr<RemoteEvaluator> remote;
-    if (options.mpi) {
-        // every rank gets the effective config: the shaping KB by its absolute path and digest
-        remote = options.mpi->start(config, evolution.shaping_kb(), name);
-        evolution.set_remote(remote.get());
-    }
-
-    EvolveSummary summary;
-    summary.seed = seed;
-    const int target = config.ea.generations;
-    summary.was_finished = options.resume && evolution.generation() >= target;
-    run.generations = target;
-    run.status = RunStatus::running;
-
-    Progress progress("generation", static_cast<std::uint64_t>(target), options.progress);
-    const double started = now_seconds();
-    std::int64_t evaluations_here = 0;
-    const auto stop = [&](int committed, const std::string& reason) {
-        // every committed generation goes into the main file: no -wal / -shm is left beside it
-        db::finish_writing(connection);
-        connection.close();
-        const std::string where =
-            concat("stopped ",
-                   committed < 0 ? std::string("before generation 0")
-                                 : concat("after generation ", committed, " of ", target),
-                   "; continue with: stepstone evolve --db ", name, " --resume", options.mpi ? " --mpi" : "");
-        if (!reason.empty()) throw Error(concat(name, ": ", reason, "; ", where));
-        throw Interrupted(concat(name, ": ", where));
-    };
-    while (evolution.generation() < target) {
-        const int committed = evolution.generation();
-        if (InterruptGuard::received()) stop(committed, options.mpi ? options.mpi->lose() : "");
-        GenerationWrite write;
-        try {
-            write = committed < 0 ? evolution.initialise() : evolution.epoch();
-        } catch (const EvaluationInterrupted& e) {
-            stop(committed,
-                 e.reason);  // the generation in progress is dropped: a resume redoes it identically
-        }
-        write_generation(connection, run, write);
-        evaluations_here += write.stats.evaluations;
-        const double elapsed = now_seconds() - started;
-        char status[96];
-        std::snprintf(status, sizeof status, "best %.4g  %.1f eval/s", write.stats.best_reward,
-                      elapsed > 0 ? static_cast<double>(evaluations_here) / elapsed : 0.0);
-        progress.update(static_cast<std::uint64_t>(evolution.generation()), status);
-    }
-    run.status = RunStatus::finished;
-    update_run(connection, run);
-    db::finish_writing(connection);
-    if (!summary.was_finished) progress.finish();
-
-    summary.generations_done = run.generations_done;
-    summary.evaluations = run.evaluations;
-    for (const auto& m : evolution.population()) summary.best_reward = std::max(summary.best_reward, m.reward);
-    return summary;
 }
 
 }  // namespace stepstone::exp

@@ -2,19 +2,18 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
 #include "core/progress.hpp"
 #include "evo/diversity_matrix.hpp"
 #include "exp/evaluation.hpp"
-#include "exp/evolve_config.hpp"
-#include "exp/run_store.hpp"
 #include "kb/knowledge_base.hpp"
 #include "nn/genome.hpp"
+#include "runs/evolve_config.hpp"
+#include "runs/run_store.hpp"
 
 namespace stepstone::exp {
 
@@ -62,14 +61,14 @@ double shaped_r_max(const kb::KnowledgeBase& kb, std::span<const float> behaviou
 /// number of threads.
 class Evolution {
 public:
-    Evolution(const EvolveConfig& config, std::uint64_t seed, unsigned threads);
+    Evolution(const runs::EvolveConfig& config, std::uint64_t seed, unsigned threads);
 
     /// Generation 0: initial_multiplier x mu random perceptrons, evaluated
     /// and cut to mu.
-    GenerationWrite initialise();
+    runs::GenerationWrite initialise();
     /// One epoch: mating selection, mutation (+ simplify), evaluation of the
     /// children, diversity on parents + children, (mu + lambda) selection.
-    GenerationWrite epoch();
+    runs::GenerationWrite epoch();
 
     /// The state to resume from.
     nlohmann::json checkpoint() const;
@@ -82,7 +81,7 @@ public:
     /// Shapes the reward with `kb` under `treatment` from now on: every
     /// evaluated policy's r_max is computed and recorded, and enters the
     /// objectives as the treatment says (exp/treatment.hpp).
-    void attach_shaping(kb::KnowledgeBase kb, Treatment treatment);
+    void attach_shaping(kb::KnowledgeBase kb, runs::Treatment treatment);
     /// Evaluates every generation from now on with `remote` (kept by the
     /// caller) instead of this process's threads; null: back to the threads.
     void set_remote(RemoteEvaluator* remote) { remote_ = remote; }
@@ -96,14 +95,14 @@ public:
     const std::vector<Member>& population() const { return population_; }
 
 private:
-    GenerationWrite select(std::vector<Member> mixed, std::size_t first_new, double started);
+    runs::GenerationWrite select(std::vector<Member> mixed, std::size_t first_new, double started);
     /// A new member with the next id, counting its NaN outputs.
     Member make_member(nn::Genome genome, const Evaluation& evaluation, std::optional<std::int64_t> parent);
     /// Evaluates `genomes`; computes their r_max with a shaping KB; observes
     /// them into the run's KB when this generation is an observing one.
     std::vector<Evaluation> evaluate(const std::vector<nn::Genome>& genomes);
 
-    EvolveConfig config_;
+    runs::EvolveConfig config_;
     std::uint64_t seed_;
     unsigned threads_;
     std::shared_ptr<const sim::Task> task_;
@@ -117,7 +116,7 @@ private:
     std::uint32_t kb_source_ = 0;
     std::optional<std::size_t> kb_previous_size_;  // set when the generation in progress observed
     std::optional<kb::KnowledgeBase> shaping_kb_;
-    Treatment treatment_ = Treatment::none;
+    runs::Treatment treatment_ = runs::Treatment::none;
     double shaping_max_average_ = 0;  // the sum treatment's normaliser
     double time_simulation_ = 0;  // seconds of the generation in progress
     double time_kb_ = 0;
@@ -130,8 +129,8 @@ struct EvolveOptions {
     std::filesystem::path db_path;
     std::optional<std::uint64_t> seed;
     std::optional<int> generations;
-    std::optional<Retain> retain;
-    std::optional<Treatment> treatment;           ///< overrides transfer.treatment
+    std::optional<runs::Retain> retain;
+    std::optional<runs::Treatment> treatment;     ///< overrides transfer.treatment
     std::optional<std::filesystem::path> kb;      ///< overrides transfer.kb (the shaping KB file)
     std::optional<std::string> kb_name;           ///< overrides transfer.kb_name
     unsigned threads = 0;  ///< 0 = every core
@@ -168,6 +167,6 @@ EvolveSummary run_evolve(const EvolveOptions& options);
 /// against the task, randomized or not against the treatment, its digest
 /// against transfer.kb_digest when set), then records its digest and name in
 /// the config and makes its path absolute. Throws ConfigError naming the file.
-kb::KnowledgeBase load_shaping_kb(EvolveConfig& config);
+kb::KnowledgeBase load_shaping_kb(runs::EvolveConfig& config);
 
 }  // namespace stepstone::exp

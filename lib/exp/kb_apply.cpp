@@ -9,10 +9,10 @@
 #include "db/database.hpp"
 #include "db/kb_store.hpp"
 #include "evo/pareto.hpp"
-#include "exp/kb_files.hpp"
-#include "exp/replay.hpp"
-#include "exp/run_store.hpp"
 #include "kb/segments.hpp"
+#include "runs/kb_files.hpp"
+#include "runs/replay.hpp"
+#include "runs/run_store.hpp"
 #include "sim/sensors.hpp"
 
 namespace stepstone::exp {
@@ -23,7 +23,7 @@ namespace {
 
 // the first front of the last checkpointed population, restricted to stored genomes
 std::vector<std::int64_t> front_individuals(db::Connection& connection, std::int64_t run_id) {
-    const auto checkpoint = load_checkpoint(connection, run_id);
+    const auto checkpoint = runs::load_checkpoint(connection, run_id);
     if (!checkpoint)
         throw DataError(concat(connection.name(), ": run ", run_id, " has no committed generation"));
     std::vector<std::int64_t> ids;
@@ -37,7 +37,7 @@ std::vector<std::int64_t> front_individuals(db::Connection& connection, std::int
         throw DatabaseError(
             concat(connection.name(), ": run ", run_id, " has a malformed checkpoint: ", one_line(e.what())));
     }
-    const auto stored = stored_individuals(connection, run_id);
+    const auto stored = runs::stored_individuals(connection, run_id);
     std::vector<std::int64_t> front;
     const auto fronts = evo::non_dominated_fronts(objectives);
     if (fronts.empty())
@@ -53,16 +53,16 @@ std::vector<std::int64_t> front_individuals(db::Connection& connection, std::int
 
 std::vector<std::int64_t> select_individuals(const fs::path& run_db, PolicySet which) {
     auto connection = db::open_database(run_db, db::OpenMode::read_only);
-    const RunRecord run = load_run(connection);
+    const runs::RunRecord run = runs::load_run(connection);
     switch (which) {
         case PolicySet::best:
-            return {load_best_genome(connection, run.id).individual_id};
+            return {runs::load_best_genome(connection, run.id).individual_id};
         case PolicySet::front:
             return front_individuals(connection, run.id);
         case PolicySet::all:
             break;
     }
-    auto ids = stored_individuals(connection, run.id);
+    auto ids = runs::stored_individuals(connection, run.id);
     if (ids.empty()) throw DataError(concat(run_db.string(), ": run ", run.id, " has no stored genome"));
     return ids;
 }
@@ -109,7 +109,7 @@ PolicySet parse_policy_set(const std::string& text, const std::string& what) {
 
 Annotation annotate_run(const fs::path& run_db, const fs::path& kb_db, PolicySet which,
                         const std::string& kb_name, const std::string& as_name) {
-    const auto stored = load_kb_file(kb_db, kb_name);
+    const auto stored = runs::load_kb_file(kb_db, kb_name);
     const std::string kb_what = concat(kb_db.string(), ": knowledge base \"", stored.name, '"');
     Annotation result;
     result.kb_name = as_name.empty() ? stored.name : as_name;
@@ -118,7 +118,7 @@ Annotation annotate_run(const fs::path& run_db, const fs::path& kb_db, PolicySet
     // every replay and lookup happens before the run file is opened for writing
     std::vector<kb::Lookup> lookups;
     for (std::int64_t id : result.individuals) {
-        const auto behaviour = replay_behaviour(run_db, std::to_string(id));
+        const auto behaviour = runs::replay_behaviour(run_db, std::to_string(id));
         const auto channels = static_cast<std::size_t>(sim::kChannels);
         check_kb_fits(stored.kb.params(), kb_what, behaviour.size() / channels, run_db.string());
         lookups.push_back(
@@ -127,7 +127,7 @@ Annotation annotate_run(const fs::path& run_db, const fs::path& kb_db, PolicySet
 
     const WriterLock lock(run_db);  // not while evolve writes the run
     auto connection = db::open_database(run_db, db::OpenMode::read_write);
-    const RunRecord run = load_run(connection);
+    const runs::RunRecord run = runs::load_run(connection);
     db::Transaction transaction(connection);
     // the KB the rows refer to lives in the run file itself
     std::optional<std::int64_t> existing;
@@ -169,8 +169,8 @@ Annotation annotate_run(const fs::path& run_db, const fs::path& kb_db, PolicySet
 
 Shaping shape_policy(const fs::path& kb_db, const fs::path& run_db, const std::string& individual,
                      const std::string& kb_name) {
-    const auto stored = load_kb_file(kb_db, kb_name);
-    Replay replayed;
+    const auto stored = runs::load_kb_file(kb_db, kb_name);
+    runs::Replay replayed;
     const auto behaviour = replay_behaviour(run_db, individual, &replayed);
     const auto channels = static_cast<std::size_t>(sim::kChannels);
     check_kb_fits(stored.kb.params(), concat(kb_db.string(), ": knowledge base \"", stored.name, '"'),

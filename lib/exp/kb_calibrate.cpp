@@ -9,11 +9,11 @@
 #include "db/database.hpp"
 #include "db/kb_store.hpp"
 #include "exp/evaluation.hpp"
-#include "exp/evolve_config.hpp"
-#include "exp/replay.hpp"
-#include "exp/run_store.hpp"
 #include "kb/segments.hpp"
 #include "nn/genome.hpp"
+#include "runs/evolve_config.hpp"
+#include "runs/replay.hpp"
+#include "runs/run_store.hpp"
 #include "sim/sensors.hpp"
 #include "sim/task.hpp"
 
@@ -71,14 +71,14 @@ RunCalibration calibrate_run(const fs::path& run_db, const CalibrateOptions& opt
     out.width_from = WidthSource::default_width;
     std::vector<std::int64_t> ids;
     auto connection = db::open_database(run_db, db::OpenMode::read_only);
-    const RunRecord run = load_run(connection);
+    const runs::RunRecord run = runs::load_run(connection);
     for (const auto& summary : db::list_kbs(connection)) {
-        if (summary.name == kRunKbName) {
+        if (summary.name == runs::kRunKbName) {
             width = summary.params.segment_width;
             out.width_from = WidthSource::run_kb;
         }
     }
-    ids = stored_individuals(connection, run.id);
+    ids = runs::stored_individuals(connection, run.id);
     if (options.segment_width) {
         if (*options.segment_width == 0)
             throw ConfigError(concat(options.width_name, " must be >= 1, got 0"));
@@ -86,7 +86,7 @@ RunCalibration calibrate_run(const fs::path& run_db, const CalibrateOptions& opt
         out.width_from = WidthSource::option;
     }
 
-    Replay replayed;
+    runs::Replay replayed;
     const auto best = replay_behaviour(run_db, options.individual, &replayed);
     out.individual_id = replayed.individual_id;
     out.reward = replayed.stored_reward;
@@ -99,7 +99,8 @@ RunCalibration calibrate_run(const fs::path& run_db, const CalibrateOptions& opt
     if (options.deltas.empty()) return out;
 
     // the size table: one KB per delta, fed batch by batch in id order
-    EvolveConfig config = EvolveConfig::from_json(run.config, run_db.string() + " (stored config)");
+    runs::EvolveConfig config =
+        runs::EvolveConfig::from_json(run.config, run_db.string() + " (stored config)");
     config.task.starts = 1;  // the behaviour is the first start's, which later starts do not change
     const auto task = sim::make_task(config.task);
     std::vector<kb::KnowledgeBase> kbs;
@@ -119,7 +120,8 @@ RunCalibration calibrate_run(const fs::path& run_db, const CalibrateOptions& opt
         const std::size_t n = std::min(options.batch, ids.size() - start);
         genomes.clear();
         for (std::size_t k = 0; k < n; ++k)
-            genomes.push_back(nn::Genome::from_json(load_genome(connection, run.id, ids[start + k]).genome));
+            genomes.push_back(
+                nn::Genome::from_json(runs::load_genome(connection, run.id, ids[start + k]).genome));
         behaviours.assign(n * size, 0.0f);
         parallel_for(n, options.threads, [&](std::size_t k) {
             evaluate_genome(*task, genomes[k], config.dnn,

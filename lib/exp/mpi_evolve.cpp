@@ -67,7 +67,7 @@ Evaluation evaluate_one(const sim::Task& task, const nn::Genome& genome, const n
 
 class MpiEvaluator final : public RemoteEvaluator {
 public:
-    MpiEvaluator(MpiLeader& leader, const EvolveConfig& config, const kb::KnowledgeBase* shaping)
+    MpiEvaluator(MpiLeader& leader, const runs::EvolveConfig& config, const kb::KnowledgeBase* shaping)
         : leader_(leader),
           session_(leader.session()),
           task_(sim::make_task(config.task)),
@@ -178,7 +178,7 @@ void MpiLeader::abandon() {
     session_.abandon();
 }
 
-std::unique_ptr<RemoteEvaluator> MpiLeader::start(const EvolveConfig& config,
+std::unique_ptr<RemoteEvaluator> MpiLeader::start(const runs::EvolveConfig& config,
                                                   const kb::KnowledgeBase* shaping, const std::string& run) {
     nlohmann::json setup = {{"config", config.to_json()}, {"run", run}};
     for (int rank = 1; rank < session_.size(); ++rank) session_.send(rank, kTagSetup, setup.dump());
@@ -195,7 +195,7 @@ void serve_evolve(mpi::Session& session, unsigned threads) {
     if (message.tag == kTagStop) return;  // rank 0 stopped before the run began (bad input)
     try {
         const auto setup = nlohmann::json::parse(message.bytes);
-        EvolveConfig config = EvolveConfig::from_json(setup.at("config"), "rank 0's config");
+        runs::EvolveConfig config = runs::EvolveConfig::from_json(setup.at("config"), "rank 0's config");
         std::optional<kb::KnowledgeBase> shaping;
         if (config.transfer) shaping = load_shaping_kb(config);  // checked against rank 0's digest
         const auto task = sim::make_task(config.task);

@@ -39,7 +39,7 @@ public:
     /// digest included) to the other ranks and returns the evaluator that
     /// hands them each generation. `shaping` is the run's shaping KB (null
     /// without one); `run` names the run file in messages.
-    std::unique_ptr<RemoteEvaluator> start(const EvolveConfig& config, const kb::KnowledgeBase* shaping,
+    std::unique_ptr<RemoteEvaluator> start(const runs::EvolveConfig& config, const kb::KnowledgeBase* shaping,
                                            const std::string& run);
     /// The job is ending without the other ranks: no stop messages, no MPI_Finalize.
     void abandon();

@@ -20,15 +20,15 @@ namespace {
 constexpr double kTableRow = 15.0;
 constexpr double kTableSize = 11.0;
 
-std::string milestone_title(exp::Milestone m) {
+std::string milestone_title(runs::Milestone m) {
     switch (m) {
-        case exp::Milestone::press:
+        case runs::Milestone::press:
             return "switch pressed";
-        case exp::Milestone::pickup:
+        case runs::Milestone::pickup:
             return "ball picked up";
-        case exp::Milestone::release:
+        case runs::Milestone::release:
             return "released at the basket";
-        case exp::Milestone::ball:
+        case runs::Milestone::ball:
             return "ball collected";
     }
     return "";
@@ -41,9 +41,9 @@ std::array<double, 4> panel(const Canvas& canvas, std::size_t k) {
     return {w * static_cast<double>(k % 2), h * static_cast<double>(k / 2), w, h};
 }
 
-std::vector<std::pair<std::string, Colour>> legend_of(std::span<const exp::Treatment> treatments) {
+std::vector<std::pair<std::string, Colour>> legend_of(std::span<const runs::Treatment> treatments) {
     std::vector<std::pair<std::string, Colour>> entries;
-    for (auto t : treatments) entries.emplace_back(std::string(exp::to_string(t)), treatment_colour(t));
+    for (auto t : treatments) entries.emplace_back(std::string(runs::to_string(t)), treatment_colour(t));
     return entries;
 }
 
@@ -61,7 +61,7 @@ std::vector<MilestoneCounts> load_milestone_counts(db::Connection& connection, s
         MilestoneCounts c;
         c.generation = static_cast<int>(rows.column_int(0));
         c.policies = rows.column_int(1);
-        for (std::size_t m = 0; m < exp::kMilestones; ++m)
+        for (std::size_t m = 0; m < runs::kMilestones; ++m)
             c.reached[m] = rows.column_int(static_cast<int>(m) + 2);
         out.push_back(c);
     }
@@ -73,7 +73,7 @@ namespace {
 // The legend goes in the right-hand corner that fewer curves cross over the
 // last 40% of the generations: the top one when curves have dropped below 3/4
 // by then, the bottom one when they stay above 1/4 (ties: the top).
-bool legend_below(const exp::CampaignEvents& events, exp::Milestone m) {
+bool legend_below(const runs::CampaignEvents& events, runs::Milestone m) {
     const double from = 0.6 * static_cast<double>(events.generation);
     int top = 0, bottom = 0;
     for (const auto& s : events.summaries) {
@@ -86,13 +86,13 @@ bool legend_below(const exp::CampaignEvents& events, exp::Milestone m) {
 
 }  // namespace
 
-void draw_kaplan_meier(Canvas& canvas, const exp::CampaignEvents& events) {
+void draw_kaplan_meier(Canvas& canvas, const runs::CampaignEvents& events) {
     canvas.fill(kWhite);
     const double g = std::max(events.generation, 1);
     const auto legend = legend_of(events.treatments);
     const double table = kTableRow * static_cast<double>(events.treatments.size() + 1);
-    for (std::size_t k = 0; k < exp::kMilestones; ++k) {
-        const exp::Milestone m = exp::all_milestones()[k];
+    for (std::size_t k = 0; k < runs::kMilestones; ++k) {
+        const runs::Milestone m = runs::all_milestones()[k];
         ChartFrame frame{concat("first ", milestone_title(m)), "generation", "runs that have not reached it",
                          std::pair{0.0, g}, std::pair{0.0, 1.0}};
         frame.region = panel(canvas, k);
@@ -129,13 +129,13 @@ void draw_kaplan_meier(Canvas& canvas, const exp::CampaignEvents& events) {
                 cairo_line_to(cr, x, y + 8.0);
                 canvas.hover(
                     x, y, 6.0,
-                    concat(exp::to_string(s.treatment), ": ", step.censored, " censored at ", step.time));
+                    concat(runs::to_string(s.treatment), ": ", step.censored, " censored at ", step.time));
             }
             cairo_stroke(cr);
             chart.release_clip();
             // the runs at risk at every x tick, under the axis label
             const double y = chart.bottom() + 58.0 + kTableRow * static_cast<double>(row + 1);
-            canvas.text(chart.left() - 10.0, y, std::string(exp::to_string(s.treatment)), kTableSize - 1.0,
+            canvas.text(chart.left() - 10.0, y, std::string(runs::to_string(s.treatment)), kTableSize - 1.0,
                         colour, 1.0, 0.5);
             for (const double v : chart.x_ticks().values) {
                 if (v < 0 || v > g) continue;
@@ -148,7 +148,7 @@ void draw_kaplan_meier(Canvas& canvas, const exp::CampaignEvents& events) {
     }
 }
 
-void draw_milestone_shares(Canvas& canvas, std::span<const exp::Treatment> treatments,
+void draw_milestone_shares(Canvas& canvas, std::span<const runs::Treatment> treatments,
                            std::span<const std::vector<std::vector<MilestoneCounts>>> series) {
     canvas.fill(kWhite);
     int last = 1;
@@ -157,11 +157,11 @@ void draw_milestone_shares(Canvas& canvas, std::span<const exp::Treatment> treat
             if (!run.empty()) last = std::max(last, run.back().generation);
         }
     }
-    for (std::size_t k = 0; k < exp::kMilestones; ++k) {
+    for (std::size_t k = 0; k < runs::kMilestones; ++k) {
         std::vector<Curve> curves;
         double top = 0.0;
         for (std::size_t t = 0; t < treatments.size(); ++t) {
-            Curve curve{std::string(exp::to_string(treatments[t])),
+            Curve curve{std::string(runs::to_string(treatments[t])),
                         treatment_colour(treatments[t]),
                         {},
                         {},
@@ -185,7 +185,7 @@ void draw_milestone_shares(Canvas& canvas, std::span<const exp::Treatment> treat
             }
             curves.push_back(std::move(curve));
         }
-        ChartFrame frame{concat(milestone_title(exp::all_milestones()[k]), ": share of policies"),
+        ChartFrame frame{concat(milestone_title(runs::all_milestones()[k]), ": share of policies"),
                          "generation", "share of the generation's policies",
                          std::pair{0.0, static_cast<double>(last)}, std::pair{0.0, std::max(top, 0.01)}};
         frame.region = panel(canvas, k);
@@ -202,8 +202,8 @@ void draw_milestone_shares(Canvas& canvas, std::span<const exp::Treatment> treat
 void draw_run_milestones(Canvas& canvas, std::span<const MilestoneCounts> counts, const std::string& title) {
     std::vector<Curve> curves;
     const Colour colours[] = {kGreen, kOrange, kPurple, kBlue};
-    for (std::size_t k = 0; k < exp::kMilestones; ++k) {
-        Curve curve{milestone_title(exp::all_milestones()[k]), colours[k], {}, {}, {}, {}, false, false};
+    for (std::size_t k = 0; k < runs::kMilestones; ++k) {
+        Curve curve{milestone_title(runs::all_milestones()[k]), colours[k], {}, {}, {}, {}, false, false};
         for (const auto& c : counts) {
             curve.x.push_back(c.generation);
             curve.y.push_back(c.share(k));

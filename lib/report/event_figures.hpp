@@ -7,9 +7,9 @@
 #include <vector>
 
 #include "db/connection.hpp"
-#include "exp/campaign_events.hpp"
-#include "exp/treatment.hpp"
 #include "report/canvas.hpp"
+#include "runs/campaign_events.hpp"
+#include "runs/treatment.hpp"
 
 namespace stepstone::report {
 
@@ -17,7 +17,7 @@ namespace stepstone::report {
 struct MilestoneCounts {
     int generation = 0;
     std::int64_t policies = 0;
-    std::array<std::int64_t, exp::kMilestones> reached{};  ///< in exp::all_milestones() order
+    std::array<std::int64_t, runs::kMilestones> reached{};  ///< in runs::all_milestones() order
 
     /// reached[m] / policies (0 without policies).
     double share(std::size_t m) const;
@@ -35,12 +35,12 @@ inline constexpr int kPanelFigureHeight = 980;
 /// milestone: per treatment the share of runs that have not reached it yet,
 /// as a step curve, censored runs marked with a tick, and the runs at risk at
 /// each x tick in a table under the axis.
-void draw_kaplan_meier(Canvas& canvas, const exp::CampaignEvents& events);
+void draw_kaplan_meier(Canvas& canvas, const runs::CampaignEvents& events);
 
 /// One panel per milestone: per treatment, the median over seeds of the share
 /// of each generation's policies that reached it. `series[t][r]` is run r of
 /// treatment t.
-void draw_milestone_shares(Canvas& canvas, std::span<const exp::Treatment> treatments,
+void draw_milestone_shares(Canvas& canvas, std::span<const runs::Treatment> treatments,
                            std::span<const std::vector<std::vector<MilestoneCounts>>> series);
 
 /// One run: the share of each generation's policies that reached each milestone.

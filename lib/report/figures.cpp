@@ -42,13 +42,18 @@ void add_quartiles(Curve& curve, double x, std::span<const double> values) {
 
 }  // namespace
 
-Colour treatment_colour(exp::Treatment treatment) {
+Colour treatment_colour(runs::Treatment treatment) {
     switch (treatment) {
-        case exp::Treatment::none: return kBlack;
-        case exp::Treatment::sum: return kBlue;
-        case exp::Treatment::mo: return kVermillion;
-        case exp::Treatment::sum_rand: return kSkyBlue;
-        case exp::Treatment::mo_rand: return kOrange;
+        case runs::Treatment::none:
+            return kBlack;
+        case runs::Treatment::sum:
+            return kBlue;
+        case runs::Treatment::mo:
+            return kVermillion;
+        case runs::Treatment::sum_rand:
+            return kSkyBlue;
+        case runs::Treatment::mo_rand:
+            return kOrange;
     }
     return kGrey;
 }
@@ -113,11 +118,18 @@ void draw_kb_growth(Canvas& canvas, const kb::KnowledgeBase& kb, const std::stri
     line_chart(canvas, frame, std::span<const Curve>(&size, 1));
 }
 
-void draw_treatment_rewards(Canvas& canvas, const exp::CampaignStats& stats) {
+void draw_treatment_rewards(Canvas& canvas, const runs::CampaignStats& stats) {
     std::vector<Curve> curves;
     const auto generations = static_cast<std::size_t>(stats.generation) + 1;
     for (const auto& t : stats.treatments) {
-        Curve c{std::string(exp::to_string(t.treatment)), treatment_colour(t.treatment), {}, {}, {}, {}, false, false};
+        Curve c{std::string(runs::to_string(t.treatment)),
+                treatment_colour(t.treatment),
+                {},
+                {},
+                {},
+                {},
+                false,
+                false};
         for (std::size_t g = 0; g < generations; ++g) {
             std::vector<double> values;
             for (const auto& run : stats.runs) {
@@ -133,12 +145,19 @@ void draw_treatment_rewards(Canvas& canvas, const exp::CampaignStats& stats) {
                curves);
 }
 
-void draw_successes(Canvas& canvas, const exp::CampaignStats& stats) {
+void draw_successes(Canvas& canvas, const runs::CampaignStats& stats) {
     std::vector<Curve> curves;
     std::size_t most = 1;
     for (std::size_t t = 0; t < stats.treatments.size(); ++t) {
         const auto treatment = stats.treatments[t].treatment;
-        Curve c{std::string(exp::to_string(treatment)), treatment_colour(treatment), {}, {}, {}, {}, false, true};
+        Curve c{std::string(runs::to_string(treatment)),
+                treatment_colour(treatment),
+                {},
+                {},
+                {},
+                {},
+                false,
+                true};
         for (std::size_t g = 0; g < stats.successes.size(); ++g) {
             c.x.push_back(static_cast<double>(g));
             c.y.push_back(static_cast<double>(stats.successes[g][t]));
@@ -151,10 +170,10 @@ void draw_successes(Canvas& canvas, const exp::CampaignStats& stats) {
     line_chart(canvas, frame, curves);
 }
 
-void draw_best_of_run(Canvas& canvas, const exp::CampaignStats& stats) {
+void draw_best_of_run(Canvas& canvas, const runs::CampaignStats& stats) {
     std::vector<Strip> strips;
     for (const auto& t : stats.treatments) {
-        strips.push_back({std::string(exp::to_string(t.treatment)), treatment_colour(t.treatment), t.best});
+        strips.push_back({std::string(runs::to_string(t.treatment)), treatment_colour(t.treatment), t.best});
     }
     ChartFrame frame{concat("Best-of-run task reward at generation ", stats.generation, " (one point per run)"),
                      "treatment", "best-of-run task reward (balls / 24)", {}, {}};
@@ -166,12 +185,18 @@ namespace {
 // per treatment, the median over its runs (and the quartile band) of one
 // value of each generation; runs or generations without it are skipped
 template <class Value>
-void treatment_series(Canvas& canvas, std::span<const exp::Treatment> treatments,
-                      std::span<const std::vector<std::vector<GenerationPoint>>> series, const ChartFrame& frame,
-                      Value value) {
+void treatment_series(Canvas& canvas, std::span<const runs::Treatment> treatments,
+                      std::span<const std::vector<std::vector<GenerationPoint>>> series,
+                      const ChartFrame& frame, Value value) {
     std::vector<Curve> curves;
     for (std::size_t t = 0; t < treatments.size() && t < series.size(); ++t) {
-        Curve c{std::string(exp::to_string(treatments[t])), treatment_colour(treatments[t]), {}, {}, {}, {}, false,
+        Curve c{std::string(runs::to_string(treatments[t])),
+                treatment_colour(treatments[t]),
+                {},
+                {},
+                {},
+                {},
+                false,
                 false};
         std::size_t length = 0;
         for (const auto& run : series[t]) length = std::max(length, run.size());
@@ -190,7 +215,7 @@ void treatment_series(Canvas& canvas, std::span<const exp::Treatment> treatments
 
 }  // namespace
 
-void draw_treatment_shaping(Canvas& canvas, std::span<const exp::Treatment> treatments,
+void draw_treatment_shaping(Canvas& canvas, std::span<const runs::Treatment> treatments,
                             std::span<const std::vector<std::vector<GenerationPoint>>> series) {
     treatment_series(canvas, treatments, series,
                      {"Shaping signal: mean r_max / A of each generation's policies, median over seeds",
@@ -201,7 +226,7 @@ void draw_treatment_shaping(Canvas& canvas, std::span<const exp::Treatment> trea
                      [](const GenerationPoint& g) { return g.mean_shaping; });
 }
 
-void draw_treatment_medians(Canvas& canvas, std::span<const exp::Treatment> treatments,
+void draw_treatment_medians(Canvas& canvas, std::span<const runs::Treatment> treatments,
                             std::span<const std::vector<std::vector<GenerationPoint>>> series) {
     treatment_series(canvas, treatments, series,
                      {"Median survivor reward per treatment: median over seeds, quartile band", "generation",

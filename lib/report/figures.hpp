@@ -6,10 +6,10 @@
 #include <vector>
 
 #include "db/connection.hpp"
-#include "exp/campaign_stats.hpp"
-#include "exp/treatment.hpp"
 #include "kb/knowledge_base.hpp"
 #include "report/canvas.hpp"
+#include "runs/campaign_stats.hpp"
+#include "runs/treatment.hpp"
 
 namespace stepstone::report {
 
@@ -26,7 +26,7 @@ struct GenerationPoint {
 std::vector<GenerationPoint> load_generations(db::Connection& connection, std::int64_t run_id);
 
 /// The colour of a treatment in every campaign figure.
-Colour treatment_colour(exp::Treatment treatment);
+Colour treatment_colour(runs::Treatment treatment);
 
 /// Best and median task reward per generation of one run.
 void draw_run_rewards(Canvas& canvas, std::span<const GenerationPoint> generations, const std::string& title);
@@ -46,20 +46,20 @@ void draw_kb_growth(Canvas& canvas, const kb::KnowledgeBase& kb, const std::stri
 
 /// Per treatment, the median over seeds of the best-so-far task reward along
 /// generations, with the band between the first and third quartiles.
-void draw_treatment_rewards(Canvas& canvas, const exp::CampaignStats& stats);
+void draw_treatment_rewards(Canvas& canvas, const runs::CampaignStats& stats);
 /// The paper's Fig. 6: successful runs per treatment along generations.
-void draw_successes(Canvas& canvas, const exp::CampaignStats& stats);
+void draw_successes(Canvas& canvas, const runs::CampaignStats& stats);
 /// The paper's Fig. 7: each run's best-of-run reward at the chosen generation,
 /// jittered by treatment, with medians and the success threshold.
-void draw_best_of_run(Canvas& canvas, const exp::CampaignStats& stats);
+void draw_best_of_run(Canvas& canvas, const runs::CampaignStats& stats);
 /// Per treatment, the median over seeds of each run's mean r_max per
 /// generation: `series[t][r]` is run r of treatment t's generations.
-void draw_treatment_shaping(Canvas& canvas, std::span<const exp::Treatment> treatments,
+void draw_treatment_shaping(Canvas& canvas, std::span<const runs::Treatment> treatments,
                             std::span<const std::vector<std::vector<GenerationPoint>>> series);
 
 /// Per treatment, the median over seeds of each run's median survivor reward
 /// per generation, with the quartile band (`series` as draw_treatment_shaping).
-void draw_treatment_medians(Canvas& canvas, std::span<const exp::Treatment> treatments,
+void draw_treatment_medians(Canvas& canvas, std::span<const runs::Treatment> treatments,
                             std::span<const std::vector<std::vector<GenerationPoint>>> series);
 
 }  // namespace stepstone::report

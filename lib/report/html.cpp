@@ -97,7 +97,8 @@ std::string Page::html() const {
 void write_directory(const fs::path& out, bool force, const std::function<void(const fs::path&)>& fill) {
     std::error_code error;
     const bool exists = fs::exists(out, error);
-    if (exists && !force) throw ConfigError(concat(out.string(), " exists (use --force to replace it)"));
+    if (exists && !force)
+        throw ConfigError(concat(out.string(), " exists (use ", option_name("force"), " to replace it)"));
     if (exists && !fs::is_directory(out)) throw ConfigError(concat(out.string(), " exists and is not a directory"));
     const fs::path parent = out.has_parent_path() ? out.parent_path() : fs::path(".");
     if (!fs::is_directory(parent, error)) {

@@ -12,15 +12,15 @@
 #include "db/database.hpp"
 #include "db/digest.hpp"
 #include "db/inspect.hpp"
-#include "exp/evolve_config.hpp"
-#include "exp/kb_stats.hpp"
-#include "exp/run_store.hpp"
 #include "report/arena_figure.hpp"
 #include "report/chart.hpp"
 #include "report/event_figures.hpp"
 #include "report/figures.hpp"
 #include "report/html.hpp"
 #include "report/sections.hpp"
+#include "runs/evolve_config.hpp"
+#include "runs/kb_stats.hpp"
+#include "runs/run_store.hpp"
 
 namespace stepstone::report {
 
@@ -42,7 +42,7 @@ std::vector<std::size_t> sample_indices(std::size_t size, std::size_t rows) {
 }
 
 void add_kb_section(Page& page, const std::string& prefix, const db::StoredKb& stored, const std::string& origin) {
-    const auto stats = exp::compute_kb_stats(stored.kb);
+    const auto stats = runs::compute_kb_stats(stored.kb);
     page.heading(concat("Knowledge base \"", stored.name, "\""), 3);
     page.table({"fact", "value"},
                {{"from", origin},
@@ -123,12 +123,13 @@ std::string digest_or_reason(db::Connection& connection) {
 
 void run_report(const ReportOptions& options, const fs::path& dir, ReportSummary& summary) {
     auto connection = db::open_database(options.input, db::OpenMode::read_only);
-    const auto run = exp::load_run(connection);
+    const auto run = runs::load_run(connection);
     const auto generations = load_generations(connection, run.id);
     if (generations.empty()) {
         throw DataError(concat(options.input.string(), ": the run has no generation yet, nothing to report"));
     }
-    const auto config = exp::EvolveConfig::from_json(run.config, options.input.filename().string() + " (stored config)");
+    const auto config =
+        runs::EvolveConfig::from_json(run.config, options.input.filename().string() + " (stored config)");
     const auto task = sim::make_task(config.task);
     const std::string file = options.input.filename().string();
     Progress progress("report", 5, options.progress);
@@ -136,7 +137,7 @@ void run_report(const ReportOptions& options, const fs::path& dir, ReportSummary
     Page page(dir, concat("stepstone report: ", file));
     page.paragraph(concat("A ", xml_escape(run.task), "-task run, treatment <b>", xml_escape(run.treatment),
                           "</b>, seed ", run.seed, ": generation ", run.generations_done, " of ",
-                          run.generations, " (", xml_escape(std::string(exp::to_string(run.status))),
+                          run.generations, " (", xml_escape(std::string(runs::to_string(run.status))),
                           "), best task reward ", fixed(generations.back().best, 4), " (",
                           static_cast<int>(generations.back().best * task->reward_divisor() + 0.5), " of ",
                           task->reward_divisor(), " balls)."));
@@ -213,7 +214,8 @@ void run_report(const ReportOptions& options, const fs::path& dir, ReportSummary
 
 ReportSummary write_report(const ReportOptions& options) {
     if (!(options.threshold >= 0.0 && options.threshold <= 1.0)) {
-        throw ConfigError(concat("--threshold must be within [0, 1], got ", options.threshold));
+        throw ConfigError(
+            concat(option_name("threshold"), " must be within [0, 1], got ", options.threshold));
     }
     std::error_code error;
     if (!fs::exists(options.input, error)) throw ConfigError(concat(options.input.string(), ": no such file or directory"));

@@ -11,13 +11,13 @@
 #include "core/text.hpp"
 #include "core/version.hpp"
 #include "db/database.hpp"
-#include "exp/campaign.hpp"
-#include "exp/campaign_stats.hpp"
-#include "exp/run_store.hpp"
+#include "exp/campaign/campaign.hpp"
 #include "report/chart.hpp"
 #include "report/event_figures.hpp"
 #include "report/figures.hpp"
 #include "report/sections.hpp"
+#include "runs/campaign_stats.hpp"
+#include "runs/run_store.hpp"
 
 namespace stepstone::report {
 
@@ -27,8 +27,8 @@ namespace {
 
 // a campaign_run row with what the report shows
 struct RunRow {
-    exp::CampaignStep step = exp::CampaignStep::target;
-    exp::RunStatus status = exp::RunStatus::pending;
+    runs::CampaignStep step = runs::CampaignStep::target;
+    runs::RunStatus status = runs::RunStatus::pending;
     std::string treatment, file, digest, error;
     std::uint64_t seed = 0;
     int generations = 0, generations_done = -1;
@@ -51,13 +51,13 @@ std::vector<RunRow> load_runs(db::Connection& connection) {
     std::vector<RunRow> out;
     while (rows.step()) {
         RunRow r;
-        r.step = exp::parse_campaign_step(rows.column_text(step), connection.name() + ": campaign_run.step");
+        r.step = runs::parse_campaign_step(rows.column_text(step), connection.name() + ": campaign_run.step");
         r.treatment = rows.column_text(treatment);
         r.seed = static_cast<std::uint64_t>(rows.column_int(seed));
         r.file = rows.column_text(file);
         r.generations = static_cast<int>(rows.column_int(generations));
         r.status =
-            exp::parse_run_status(rows.column_text(status), connection.name() + ": campaign_run.status");
+            runs::parse_run_status(rows.column_text(status), connection.name() + ": campaign_run.status");
         r.generations_done = static_cast<int>(rows.column_int(done));
         if (!rows.is_null(best)) r.best_reward = rows.column_double(best);
         if (!rows.is_null(digest)) r.digest = rows.column_text(digest);
@@ -82,16 +82,16 @@ std::vector<KbRow> load_kbs(db::Connection& connection) {
 
 // the statistics at the asked generation, or at the last one every target
 // run has reached when some are unfinished (said in `notes`)
-std::optional<exp::CampaignStats> load_stats(const ReportOptions& options, const std::vector<RunRow>& runs,
-                                             std::vector<std::string>& notes) {
+std::optional<runs::CampaignStats> load_stats(const ReportOptions& options, const std::vector<RunRow>& runs,
+                                              std::vector<std::string>& notes) {
     try {
-        return exp::campaign_stats(options.input, options.generation, options.threshold);
+        return runs::campaign_stats(options.input, options.generation, options.threshold);
     } catch (const DataError& e) {
         if (options.generation) throw;
         int reached = -1;
         bool any = false;
         for (const auto& r : runs) {
-            if (r.step != exp::CampaignStep::target) continue;
+            if (r.step != runs::CampaignStep::target) continue;
             reached = any ? std::min(reached, r.generations_done) : r.generations_done;
             any = true;
         }
@@ -102,7 +102,7 @@ std::optional<exp::CampaignStats> load_stats(const ReportOptions& options, const
         if (reached < 0) {
             // some target runs have not started: compare those that have finished, if any
             try {
-                auto finished = exp::campaign_stats(options.input, std::nullopt, options.threshold, true);
+                auto finished = runs::campaign_stats(options.input, std::nullopt, options.threshold, true);
                 notes.push_back(concat(finished.skipped.size(), " target runs have not finished: the ",
                                        finished.runs.size(), " finished ones are compared at generation ",
                                        finished.generation));
@@ -114,7 +114,7 @@ std::optional<exp::CampaignStats> load_stats(const ReportOptions& options, const
         }
         notes.push_back(concat("some target runs are unfinished: treatments compared at generation ", reached,
                                ", the last one every target run has reached"));
-        return exp::campaign_stats(options.input, reached, options.threshold);
+        return runs::campaign_stats(options.input, reached, options.threshold);
     }
 }
 
@@ -124,30 +124,30 @@ std::string p_value(double p) {
     return text;
 }
 
-void add_events(Page& page, const exp::CampaignStats& stats, const std::vector<RunRow>& runs,
+void add_events(Page& page, const runs::CampaignStats& stats, const std::vector<RunRow>& runs,
                 const fs::path& dir);
 
 // load(connection, run_id) of every target run file present, per treatment in the given order
 template <class Load>
 auto per_treatment(const std::vector<RunRow>& runs, const fs::path& dir,
-                   std::span<const exp::Treatment> treatments, Load load) {
+                   std::span<const runs::Treatment> treatments, Load load) {
     using Row = decltype(load(std::declval<db::Connection&>(), std::int64_t{}));
     std::vector<std::vector<Row>> series;
     for (const auto t : treatments) {
         series.emplace_back();
         for (const auto& r : runs) {
-            if (r.step != exp::CampaignStep::target || r.treatment != exp::to_string(t) ||
+            if (r.step != runs::CampaignStep::target || r.treatment != runs::to_string(t) ||
                 !fs::exists(dir / r.file))
                 continue;
             auto connection = db::open_database(dir / r.file, db::OpenMode::read_only);
-            series.back().push_back(load(connection, exp::load_run(connection).id));
+            series.back().push_back(load(connection, runs::load_run(connection).id));
         }
     }
     return series;
 }
 
 // `largest`: the largest average reward of each of the campaign's KBs ("kb", "kb-rand")
-void add_statistics(Page& page, const exp::CampaignStats& stats, const std::vector<RunRow>& runs,
+void add_statistics(Page& page, const runs::CampaignStats& stats, const std::vector<RunRow>& runs,
                     const fs::path& dir, const std::map<std::string, double>& largest) {
     page.heading("Treatments compared");
     page.paragraph(concat("Target runs at generation ", stats.generation, "; a run succeeds when its best-of-run task "
@@ -156,7 +156,7 @@ void add_statistics(Page& page, const exp::CampaignStats& stats, const std::vect
     std::vector<std::vector<std::string>> rows;
     for (const auto& t : stats.treatments) {
         const auto& s = t.summary;
-        rows.push_back({std::string(exp::to_string(t.treatment)), std::to_string(s.n),
+        rows.push_back({std::string(runs::to_string(t.treatment)), std::to_string(s.n),
                         concat(t.successes, " (",
                                fixed(100.0 * static_cast<double>(t.successes) /
                                          static_cast<double>(std::max<std::size_t>(s.n, 1)),
@@ -186,9 +186,9 @@ void add_statistics(Page& page, const exp::CampaignStats& stats, const std::vect
 
     std::vector<std::vector<std::string>> tests;
     for (const auto& t : stats.tests) {
-        tests.push_back({concat(exp::to_string(t.a), " vs ", exp::to_string(t.b)),
+        tests.push_back({concat(runs::to_string(t.a), " vs ", runs::to_string(t.b)),
                          concat(t.n_a, " / ", t.n_b), fixed(t.test.u, 1), p_value(t.p),
-                         std::string(exp::to_string(t.method)), p_value(t.test.p), p_value(t.p_holm),
+                         std::string(runs::to_string(t.method)), p_value(t.test.p), p_value(t.p_holm),
                          fixed(t.a12, 3)});
     }
     page.table(
@@ -197,14 +197,14 @@ void add_statistics(Page& page, const exp::CampaignStats& stats, const std::vect
         tests,
         concat("Mann-Whitney U on the best-of-run rewards, Holm-adjusted over every pair, and Vargha-Delaney "
                "A12. Below ",
-               exp::kPermutationBelowRuns,
+               runs::kPermutationBelowRuns,
                " runs an arm, or when a quarter of the values tie, "
                "p is the exact permutation p (every relabelling, ties kept); SciPy's method=\"auto\" p is "
                "shown beside it. The paper: sum vs none p = 0.011, mo vs none p = 0.0054."));
     add_events(page, stats, runs, dir);
 
     // the shaping signal, from every target run's individual table
-    std::vector<exp::Treatment> treatments;
+    std::vector<runs::Treatment> treatments;
     for (const auto& t : stats.treatments) treatments.push_back(t.treatment);
     const auto series = per_treatment(runs, dir, treatments, load_generations);
     page.figure("treatment-medians", kFigureWidth, kFigureHeight,
@@ -222,8 +222,8 @@ void add_statistics(Page& page, const exp::CampaignStats& stats, const std::vect
         auto normalised = series;
         std::string divisors;
         for (std::size_t t = 0; t < treatments.size() && t < normalised.size(); ++t) {
-            if (!exp::needs_kb(treatments[t])) continue;
-            const auto kb = largest.find(exp::needs_randomized_kb(treatments[t]) ? "kb-rand" : "kb");
+            if (!runs::needs_kb(treatments[t])) continue;
+            const auto kb = largest.find(runs::needs_randomized_kb(treatments[t]) ? "kb-rand" : "kb");
             const double a = kb == largest.end() ? 0.0 : kb->second;
             for (auto& run : normalised[t]) {
                 for (auto& g : run) {
@@ -247,7 +247,7 @@ void add_statistics(Page& page, const exp::CampaignStats& stats, const std::vect
 }
 
 // the time to each milestone: Kaplan-Meier figure, log-rank table, shares of policies
-void add_events(Page& page, const exp::CampaignStats& stats, const std::vector<RunRow>& runs,
+void add_events(Page& page, const runs::CampaignStats& stats, const std::vector<RunRow>& runs,
                 const fs::path& dir) {
     page.heading("Milestones: when runs first reach each step of the task");
     if (!stats.events) {
@@ -269,18 +269,18 @@ void add_events(Page& page, const exp::CampaignStats& stats, const std::vector<R
         [&](Canvas& c) { draw_kaplan_meier(c, events); });
     std::vector<std::vector<std::string>> rows;
     for (const auto& t : events.tests) {
-        rows.push_back({std::string(exp::to_string(t.milestone)),
-                        concat(exp::to_string(t.a), " vs ", exp::to_string(t.b)), concat(t.n_a, " / ", t.n_b),
-                        concat(t.test.events_a, " / ", t.test.events_b), fixed(t.test.chi2, 3),
-                        p_value(t.test.p), p_value(t.p_holm)});
+        rows.push_back({std::string(runs::to_string(t.milestone)),
+                        concat(runs::to_string(t.a), " vs ", runs::to_string(t.b)),
+                        concat(t.n_a, " / ", t.n_b), concat(t.test.events_a, " / ", t.test.events_b),
+                        fixed(t.test.chi2, 3), p_value(t.test.p), p_value(t.p_holm)});
     }
     page.table(
         {"milestone", "pair", "runs", "reached", "chi2 (1 df)", "p", "p (Holm)"}, rows,
         "Log-rank tests of the time to each milestone, Holm-adjusted over the pairs of each milestone.");
     std::vector<std::vector<std::string>> medians;
     for (const auto& s : events.summaries) {
-        medians.push_back({std::string(exp::to_string(s.milestone)), std::string(exp::to_string(s.treatment)),
-                           concat(s.reached, " of ", s.runs),
+        medians.push_back({std::string(runs::to_string(s.milestone)),
+                           std::string(runs::to_string(s.treatment)), concat(s.reached, " of ", s.runs),
                            s.curve.median ? concat(*s.curve.median) : std::string("not reached")});
     }
     page.table({"milestone", "treatment", "runs that reached it", "Kaplan-Meier median generation"}, medians);
@@ -294,7 +294,7 @@ void add_events(Page& page, const exp::CampaignStats& stats, const std::vector<R
 }
 
 // the finished run of `step` with the highest best reward (first on ties)
-const RunRow* best_run(const std::vector<RunRow>& runs, exp::CampaignStep step) {
+const RunRow* best_run(const std::vector<RunRow>& runs, runs::CampaignStep step) {
     const RunRow* best = nullptr;
     for (const auto& r : runs) {
         if (r.step != step || !r.best_reward || r.generations_done < 0) continue;
@@ -307,7 +307,7 @@ const RunRow* best_run(const std::vector<RunRow>& runs, exp::CampaignStep step) 
 
 void campaign_report(const ReportOptions& options, const fs::path& dir, ReportSummary& summary) {
     const fs::path& campaign_dir = options.input;
-    const auto index = exp::load_campaign(campaign_dir);
+    const auto index = runs::load_campaign(campaign_dir);
     auto connection = db::open_database(campaign_dir / "campaign.db", db::OpenMode::read_only);
     const auto runs = load_runs(connection);
     const auto kbs = load_kbs(connection);
@@ -315,7 +315,7 @@ void campaign_report(const ReportOptions& options, const fs::path& dir, ReportSu
     Page page(dir, concat("stepstone report: campaign ", campaign_dir.lexically_normal().string()));
 
     std::size_t finished = 0;
-    for (const auto& r : runs) finished += r.status == exp::RunStatus::finished;
+    for (const auto& r : runs) finished += r.status == runs::RunStatus::finished;
     page.paragraph(concat("Campaign directory <code>", xml_escape(campaign_dir.string()), "</code>: ", runs.size(),
                           " runs, ", finished, " finished."));
 
@@ -343,14 +343,14 @@ void campaign_report(const ReportOptions& options, const fs::path& dir, ReportSu
         add_kb_section(page, "", *kb, row->made_from);
     }
     progress.update(2);
-    if (const auto* source = best_run(runs, exp::CampaignStep::source)) {
+    if (const auto* source = best_run(runs, runs::CampaignStep::source)) {
         page.heading("The best source policy");
         const auto trace = trace_policy(campaign_dir / source->file, "best", 0, kb ? &kb->kb : nullptr,
                                         kb ? kb->name : "");
         add_trajectory(page, "source-best", trace, concat("The best policy of ", source->file));
     }
     progress.update(3);
-    if (const auto* target = best_run(runs, exp::CampaignStep::target)) {
+    if (const auto* target = best_run(runs, runs::CampaignStep::target)) {
         // a best reward of 0 is no best policy: say so, and show what the runs reached
         const bool scored = *target->best_reward > 0;
         page.heading(scored ? "The best target policy" : "No target policy scored");
@@ -377,10 +377,10 @@ void campaign_report(const ReportOptions& options, const fs::path& dir, ReportSu
     page.heading("Runs");
     std::vector<std::vector<std::string>> rows;
     for (const auto& r : runs) {
-        rows.push_back({r.file, std::string(exp::to_string(r.step)), r.treatment, std::to_string(r.seed),
+        rows.push_back({r.file, std::string(runs::to_string(r.step)), r.treatment, std::to_string(r.seed),
                         concat(r.generations_done, " / ", r.generations),
-                        std::string(exp::to_string(r.status)), r.best_reward ? fixed(*r.best_reward, 4) : "-",
-                        format_duration(r.wall_time),
+                        std::string(runs::to_string(r.status)),
+                        r.best_reward ? fixed(*r.best_reward, 4) : "-", format_duration(r.wall_time),
                         r.digest.empty() ? (r.error.empty() ? "-" : r.error) : r.digest.substr(0, 16)});
     }
     page.table({"file", "step", "treatment", "seed", "generations", "status", "best reward", "time",

@@ -7,9 +7,9 @@
 #include "core/error.hpp"
 #include "core/text.hpp"
 #include "db/database.hpp"
-#include "exp/replay.hpp"
-#include "exp/run_store.hpp"
 #include "kb/segments.hpp"
+#include "runs/replay.hpp"
+#include "runs/run_store.hpp"
 
 namespace stepstone::report {
 
@@ -24,7 +24,8 @@ Trace trace_episode(const std::shared_ptr<const sim::Task>& task, const EpisodeR
                     const kb::KnowledgeBase* kb, const std::string& kb_name, const std::string& what) {
     const auto& config = task->config();
     if (start < 0 || start >= config.starts) {
-        throw ConfigError(concat("--start must be within 1 to ", config.starts, " (the run's starts), got ", start + 1));
+        throw ConfigError(concat(option_name("start"), " must be within 1 to ", config.starts,
+                                 " (the run's starts), got ", start + 1));
     }
     constexpr auto channels = static_cast<std::size_t>(sim::kChannels);
     Trace trace;
@@ -71,7 +72,7 @@ Trace trace_episode(const std::shared_ptr<const sim::Task>& task, const EpisodeR
 
 Trace trace_policy(const std::filesystem::path& run_db, const std::string& individual, int start,
                    const kb::KnowledgeBase* kb, const std::string& kb_name) {
-    auto setup = exp::prepare_replay(run_db, individual);
+    auto setup = runs::prepare_replay(run_db, individual);
     auto trace = trace_episode(
         setup.task, [&](const auto& observer) { return setup.run(observer); }, start, kb, kb_name,
         concat(run_db.filename().string(), ": individual ", setup.replay.individual_id));
@@ -89,7 +90,7 @@ std::optional<db::StoredKb> figure_kb(const std::filesystem::path& run_db, const
     }
     auto connection = db::open_database(run_db, db::OpenMode::read_only);
     for (const auto& summary : db::list_kbs(connection)) {
-        if (summary.name == exp::kRunKbName) return db::load_kb(connection, exp::kRunKbName);
+        if (summary.name == runs::kRunKbName) return db::load_kb(connection, runs::kRunKbName);
     }
     return std::nullopt;
 }

@@ -46,11 +46,13 @@ void fail(httplib::Response& res, int status, const std::string& message) {
 
 std::string read_token(const std::filesystem::path& path) {
     std::ifstream in(path);
-    if (!in) throw ConfigError(concat("--token-file ", path.string(), ": cannot be read"));
+    if (!in) throw ConfigError(concat(option_name("token_file"), " ", path.string(), ": cannot be read"));
     std::string token;
     std::getline(in, token);
     while (!token.empty() && std::isspace(static_cast<unsigned char>(token.back()))) token.pop_back();
-    if (token.size() < 16) throw ConfigError(concat("--token-file ", path.string(), ": the token must have at least 16 characters"));
+    if (token.size() < 16)
+        throw ConfigError(concat(option_name("token_file"), " ", path.string(),
+                                 ": the token must have at least 16 characters"));
     return token;
 }
 
@@ -87,19 +89,25 @@ unsigned work_threads(const ServeOptions& options) {
 // the options' checks, before anything is opened or bound
 void check_options(const ServeOptions& options, const std::string& token) {
     if (token.empty() && !is_loopback(options.bind)) {
-        throw ConfigError(concat("--bind ", options.bind, " is not loopback: give --token-file so that only clients "
+        throw ConfigError(concat(option_name("bind"), " ", options.bind, " is not loopback: give ",
+                                 option_name("token_file"),
+                                 " so that only clients "
                                  "with the token are answered"));
     }
-    if (token.empty() && options.writable) throw ConfigError("--writable needs --token-file (writes need the token)");
-    if (options.port < 0 || options.port > 65535) throw ConfigError(concat("--port must be within 0 to 65535, got ", options.port));
+    if (token.empty() && options.writable)
+        throw ConfigError(concat(option_name("writable"), " needs ", option_name("token_file"),
+                                 " (writes need the token)"));
+    if (options.port < 0 || options.port > 65535)
+        throw ConfigError(concat(option_name("port"), " must be within 0 to 65535, got ", options.port));
     if (!(options.timeout_seconds >= 1 && options.timeout_seconds <= 3600)) {
-        throw ConfigError(
-            concat("--timeout must be within 1 to 3600 seconds, got ", shortest(options.timeout_seconds)));
+        throw ConfigError(concat(option_name("timeout_seconds"), " must be within 1 to 3600 seconds, got ",
+                                 shortest(options.timeout_seconds)));
     }
     if (options.threads > 1024)
-        throw ConfigError(concat("--threads must be within 1 to 1024, got ", options.threads));
+        throw ConfigError(concat(option_name("threads"), " must be within 1 to 1024, got ", options.threads));
     if (options.connections < 1 || options.connections > 4096)
-        throw ConfigError(concat("--connections must be within 1 to 4096, got ", options.connections));
+        throw ConfigError(
+            concat(option_name("connections"), " must be within 1 to 4096, got ", options.connections));
 }
 
 // the token of --token-file, once every option is checked (before anything is opened or bound)

@@ -12,11 +12,11 @@
 #include "core/text.hpp"
 #include "db/database.hpp"
 #include "db/kb_store.hpp"
-#include "exp/campaign.hpp"
-#include "exp/kb_stats.hpp"
-#include "exp/run_store.hpp"
+#include "exp/campaign/campaign.hpp"
 #include "kb/segments.hpp"
 #include "report/figures.hpp"
+#include "runs/kb_stats.hpp"
+#include "runs/run_store.hpp"
 #include "service/body.hpp"
 
 namespace stepstone::service {
@@ -162,7 +162,7 @@ json KbService::kb_info(const std::string& name) const {
     const Kb& kb = find(name);
     std::shared_lock lock(kb.mutex);
     auto out = kb_summary(kb.name, kb.file, kb.kb, kb.randomized_seed);
-    const auto stats = exp::compute_kb_stats(kb.kb, 20);
+    const auto stats = runs::compute_kb_stats(kb.kb, 20);
     json bins = json::array();
     for (const auto& bin : stats.histogram) bins.push_back({{"low", bin.low}, {"high", bin.high}, {"segments", bin.segments}});
     out["histogram"] = bins;
@@ -252,7 +252,7 @@ json KbService::segments(const std::string& name, const std::string& order, std:
 }
 
 json KbService::observe(const std::string& name, const json& body) {
-    if (!writable_) throw HttpError(403, "this server is read-only (start it with --writable)");
+    if (!writable_) throw HttpError(403, "this server is read-only (its operator did not allow writes)");
     Kb& kb = find(name);
     const auto& policies = member(body, "policies");
     if (!policies.is_array() || policies.empty()) throw HttpError(400, "\"policies\" must be a non-empty array");
@@ -351,7 +351,7 @@ json KbService::runs() const {
     }
     for (const auto& file : run_files()) {
         auto connection = db::open_database(file.path, db::OpenMode::read_only);
-        const auto run = exp::load_run(connection);
+        const auto run = runs::load_run(connection);
         // max() is NULL for a run with no generation yet
         auto best = connection.prepare(db::sql("run/max_best_reward.sql"));
         const bool has_best = best.step() && !best.is_null(0);
@@ -361,7 +361,7 @@ json KbService::runs() const {
                        {"seed", run.seed},
                        {"file", file.path.filename().string()},
                        {"generations", run.generations},
-                       {"status", exp::to_string(run.status)},
+                       {"status", runs::to_string(run.status)},
                        {"generations_done", run.generations_done},
                        {"best_reward", has_best ? json(best.column_double(0)) : json()}});
     }
@@ -374,7 +374,7 @@ json KbService::generations(std::int64_t id) const {
         json out = json::array();
         if (!fs::exists(file.path)) return out;  // not started yet
         auto connection = db::open_database(file.path, db::OpenMode::read_only);
-        for (const auto& g : report::load_generations(connection, exp::load_run(connection).id)) {
+        for (const auto& g : report::load_generations(connection, runs::load_run(connection).id)) {
             out.push_back({{"generation", g.generation},
                            {"best_reward", g.best},
                            {"median_reward", g.median},
@@ -388,10 +388,10 @@ json KbService::generations(std::int64_t id) const {
 
 json KbService::campaign() const {
     if (!campaign_) throw HttpError(404, "not serving a campaign directory");
-    const auto index = exp::load_campaign(input_);
+    const auto index = runs::load_campaign(input_);
     json by_status = json::object();
     for (const auto& entry : index.runs) {
-        const std::string status(exp::to_string(entry.status));
+        const std::string status(runs::to_string(entry.status));
         by_status[status] = by_status.value(status, 0) + 1;
     }
     json kbs = json::array();

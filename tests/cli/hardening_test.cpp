@@ -94,7 +94,7 @@ TEST_CASE("a second writer on a run file is refused at once, naming the first; C
     CHECK(first.exit_code == 130);
     REQUIRE(first.err_lines().size() == 1);
     CHECK_THAT(first.err_lines()[0], StartsWith("stepstone: interrupted: " + run.string()));
-    CHECK_THAT(first.err_lines()[0], Contains("stepstone evolve --db " + run.string() + " --resume"));
+    CHECK_THAT(first.err_lines()[0], Contains("continue with --resume"));
     CHECK(seconds < 1.5);
     // every committed generation is in the main file: nothing beside it
     CHECK_FALSE(fs::exists(run.string() + "-wal"));

@@ -125,7 +125,8 @@ TEST_CASE("an output database appears only when committed", "[db][output]") {
     CHECK(!std::filesystem::exists(dir / "out.db-wal"));
     auto connection = db::open_database(out, db::OpenMode::read_only);
     CHECK(db::meta_value(connection, "x") == "1");
-    CHECK_THROWS_WITH(db::OutputDatabase(out, false), Contains("out.db: already exists (use --force to overwrite)"));
+    CHECK_THROWS_WITH(db::OutputDatabase(out, false),
+                      Contains("out.db: already exists (use `force` to overwrite)"));
     CHECK_NOTHROW(db::OutputDatabase(out, true));
 }
 

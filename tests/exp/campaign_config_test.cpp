@@ -1,6 +1,6 @@
 // CampaignConfig parsing and plan_runs, in process: the expectations come from
 // docs/transfer.md's table of keys and its plan (seed-major target runs).
-#include "exp/campaign_config.hpp"
+#include "runs/campaign_config.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -16,8 +16,8 @@ const char* kTask = R"("task": {"kind": "target", "steps_per_start": 100, "start
 
 nlohmann::json parse(const std::string& text) { return nlohmann::json::parse(text); }
 
-exp::CampaignConfig from(const std::string& text) {
-    return exp::CampaignConfig::from_json(parse(text), "c.json", std::filesystem::current_path());
+runs::CampaignConfig from(const std::string& text) {
+    return runs::CampaignConfig::from_json(parse(text), "c.json", std::filesystem::current_path());
 }
 
 std::string target(const std::string& extra) {
@@ -48,16 +48,16 @@ TEST_CASE("campaign config: the default treatments are all five in the paper's o
           "[exp][campaign][config]") {
     test::TempDir dir;
     test::write_file(dir / "kb.db", "");  // kb.file must exist; it is not read by the parse
-    const auto config = exp::CampaignConfig::from_json(
+    const auto config = runs::CampaignConfig::from_json(
         parse(std::string(R"({"kb": {"file": "kb.db"}, "target": {"config": {)") + kTask + "}}}"), "c.json",
         dir.path());
     REQUIRE(config.treatments.size() == 5);
-    CHECK(exp::to_string(config.treatments[0]) == std::string("none"));
-    CHECK(exp::to_string(config.treatments[1]) == std::string("sum"));
-    CHECK(exp::to_string(config.treatments[2]) == std::string("mo"));
-    CHECK(exp::to_string(config.treatments[3]) == std::string("sum-rand"));
-    CHECK(exp::to_string(config.treatments[4]) == std::string("mo-rand"));
-    CHECK(config.kb_from == exp::KbFrom::file);
+    CHECK(runs::to_string(config.treatments[0]) == std::string("none"));
+    CHECK(runs::to_string(config.treatments[1]) == std::string("sum"));
+    CHECK(runs::to_string(config.treatments[2]) == std::string("mo"));
+    CHECK(runs::to_string(config.treatments[3]) == std::string("sum-rand"));
+    CHECK(runs::to_string(config.treatments[4]) == std::string("mo-rand"));
+    CHECK(config.kb_from == runs::KbFrom::file);
     CHECK(config.kb_file == dir / "kb.db");
     // stored and shown as the config gives it, not as this machine's absolute path
     CHECK(config.kb_file_given == "kb.db");
@@ -89,7 +89,7 @@ TEST_CASE("campaign plan: source runs by seed, then target runs seed-major in co
              R"(, "kb": {"segment_width": 20, "delta": 1.0}}, "seeds": [4, 2], "generations": 3},
         "target": {"config": {)" +
              kTask + R"(}, "runs": 2, "generations": 5, "treatments": ["mo", "none"]}})");
-    const auto plan = exp::plan_runs(config);
+    const auto plan = runs::plan_runs(config);
     const std::vector<std::string> files{"source/seed-4.db",    "source/seed-2.db",
                                          "target/mo/seed-1.db", "target/none/seed-1.db",
                                          "target/mo/seed-2.db", "target/none/seed-2.db"};
@@ -97,16 +97,16 @@ TEST_CASE("campaign plan: source runs by seed, then target runs seed-major in co
     for (std::size_t k = 0; k < plan.size(); ++k) {
         INFO(k);
         CHECK(plan[k].file == files[k]);
-        CHECK(plan[k].step == (k < 2 ? exp::CampaignStep::source : exp::CampaignStep::target));
+        CHECK(plan[k].step == (k < 2 ? runs::CampaignStep::source : runs::CampaignStep::target));
         CHECK(plan[k].generations == (k < 2 ? 3 : 5));
     }
     CHECK(plan[0].seed == 4);
     CHECK(plan[4].seed == 2);
-    CHECK(exp::to_string(plan[4].treatment) == std::string("mo"));
-    CHECK(exp::to_string(plan[0].treatment) == std::string("none"));
+    CHECK(runs::to_string(plan[4].treatment) == std::string("mo"));
+    CHECK(runs::to_string(plan[0].treatment) == std::string("none"));
     // the stored form parses back to the same plan
     const auto again =
-        exp::CampaignConfig::from_json(config.to_json(), "stored", std::filesystem::current_path());
+        runs::CampaignConfig::from_json(config.to_json(), "stored", std::filesystem::current_path());
     CHECK(again.to_json() == config.to_json());
-    CHECK(exp::plan_runs(again).size() == plan.size());
+    CHECK(runs::plan_runs(again).size() == plan.size());
 }

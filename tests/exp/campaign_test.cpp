@@ -1,5 +1,5 @@
 // stepstone campaign and stepstone stats, end to end on tiny campaigns.
-#include "exp/campaign.hpp"
+#include "exp/campaign/campaign.hpp"
 
 #include <algorithm>
 #include <catch2/catch.hpp>
@@ -330,7 +330,7 @@ TEST_CASE("stats reports a missing, corrupt or unfinished run file", "[exp][camp
         }
         const auto result = test::run_cli({"stats", camp.string(), "--generation", "2"});
         CHECK(result.exit_code == 1);
-        CHECK_THAT(result.err, Contains("has reached generation 0 of 2") && Contains("campaign --resume"));
+        CHECK_THAT(result.err, Contains("has reached generation 0 of 2") && Contains("resume the campaign"));
     }
     SECTION("a missing run file") {
         std::filesystem::remove(camp / "target" / "mo" / "seed-2.db");
@@ -416,11 +416,11 @@ TEST_CASE("every example campaign parses; the demo's KB fixture loads with rewar
         const auto name = entry.path().filename().string();
         if (name.rfind("campaign_", 0) != 0 || entry.path().extension() != ".json") continue;
         INFO(name);
-        CHECK_NOTHROW(exp::CampaignConfig::load(entry.path()));
+        CHECK_NOTHROW(runs::CampaignConfig::load(entry.path()));
         ++parsed;
     }
     CHECK(parsed >= 3);
-    const auto replication = exp::CampaignConfig::load(examples / "campaign_replication.json");
+    const auto replication = runs::CampaignConfig::load(examples / "campaign_replication.json");
     REQUIRE(replication.source);
     CHECK(replication.source->config.ea.population_size == 200);  // the paper's source run
     CHECK(replication.source->generations == 4000);
@@ -428,8 +428,8 @@ TEST_CASE("every example campaign parses; the demo's KB fixture loads with rewar
     CHECK(replication.target.config.task.starts == 3);
 
     // the quick campaign's KB is the shipped fixture: a paper-size source run's KB, coarsened
-    const auto quick = exp::CampaignConfig::load(examples / "campaign_quick.json");
-    REQUIRE(quick.kb_from == exp::KbFrom::file);
+    const auto quick = runs::CampaignConfig::load(examples / "campaign_quick.json");
+    REQUIRE(quick.kb_from == runs::KbFrom::file);
     CHECK(quick.kb_file.extension() == ".gz");
     CHECK(std::filesystem::file_size(quick.kb_file) < (1u << 20));  // committed: under 1 MiB
     test::TempDir dir;
@@ -468,8 +468,7 @@ TEST_CASE(
     REQUIRE_FALSE(result.err_lines().empty());
     CHECK_THAT(result.err_lines().back(),
                Contains("campaign stopped with " + std::to_string(done_before) + " of 11 runs finished") &&
-                   Contains("continue with: stepstone campaign " + (dir / "c.json").string() + " --dir " +
-                            stopped.string() + " --resume"));
+                   Contains("continue with --resume"));
     {
         auto connection = db::open_database(stopped / "campaign.db", db::OpenMode::read_only);
         CHECK(connection.query_int(

@@ -5,7 +5,7 @@
 #include "core/error.hpp"
 #include "db/database.hpp"
 #include "db/digest.hpp"
-#include "exp/replay.hpp"
+#include "runs/replay.hpp"
 #include "support/db_files.hpp"
 #include "support/temp_dir.hpp"
 
@@ -96,12 +96,12 @@ TEST_CASE("the run file holds every generation, individual and a replayable best
     auto ids = connection.prepare("SELECT individual_id FROM genome ORDER BY individual_id");
     int replayed = 0;
     while (ids.step()) {
-        const auto r = exp::replay(dir / "run.db", std::to_string(ids.column_int(0)));
+        const auto r = runs::replay(dir / "run.db", std::to_string(ids.column_int(0)));
         CHECK(r.result.reward == r.stored_reward);
         ++replayed;
     }
     CHECK(replayed > 0);
-    CHECK_THROWS_WITH(exp::replay(dir / "run.db", "abc"),
+    CHECK_THROWS_WITH(runs::replay(dir / "run.db", "abc"),
                       Contains("individual must be 'best' or an individual id") && !Contains("--"));
 }
 
@@ -144,10 +144,12 @@ TEST_CASE("resuming with another config is refused and leaves the run unchanged"
     CHECK_THROWS_WITH(exp::run_evolve(resume), Contains("run.db: the config differs from the run's at ea.population_size"));
     CHECK(test::read_file(dir / "run.db") == before);
 
-    // an existing file is not replaced without --force; the message points to --resume first
+    // an existing file is not replaced without force; the message points to resume first, naming
+    // the library's options (the CLI spells them as its flags)
     auto again = options_for(dir, "run.db", 1);
-    CHECK_THROWS_WITH(exp::run_evolve(again),
-                      Contains("run.db: already exists; continue it with --resume (or replace it with --force)"));
+    CHECK_THROWS_WITH(
+        exp::run_evolve(again),
+        Contains("run.db: already exists; continue it with `resume` (or replace it with `force`)"));
 }
 
 namespace {
@@ -222,13 +224,13 @@ TEST_CASE("every example run config parses and the paper's carries the paper's v
         const auto name = entry.path().filename().string();
         if (name.rfind("source_", 0) != 0 || entry.path().extension() != ".json") continue;
         INFO(name);
-        CHECK_NOTHROW(exp::EvolveConfig::load(entry.path()));
+        CHECK_NOTHROW(runs::EvolveConfig::load(entry.path()));
         ++parsed;
     }
     CHECK(parsed >= 2);
     // the paper's parameters (docs/runs.md, examples/source_paper.json): population 200, generations 0..4000,
     // 3 x 4000 steps, w = 20, delta = 1.83, period 200
-    const auto paper = exp::EvolveConfig::load(examples / "source_paper.json");
+    const auto paper = runs::EvolveConfig::load(examples / "source_paper.json");
     CHECK(paper.ea.population_size == 200);
     CHECK(paper.ea.generations == 4000);
     CHECK(paper.task.steps_per_start * paper.task.starts == 12000);

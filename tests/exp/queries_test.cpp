@@ -7,8 +7,8 @@
 #include "db/database.hpp"
 #include "exp/evaluation.hpp"
 #include "exp/evolution.hpp"
-#include "exp/evolve_config.hpp"
 #include "nn/genome.hpp"
+#include "runs/evolve_config.hpp"
 #include "sim/task.hpp"
 #include "support/temp_dir.hpp"
 
@@ -56,7 +56,7 @@ TEST_CASE("milestones.sql counts what replaying every stored genome on the simul
     exp::run_evolve(options);
 
     auto connection = db::open_database(dir / "run.db", db::OpenMode::read_only);
-    const auto config = exp::EvolveConfig::load(dir / "c.json");
+    const auto config = runs::EvolveConfig::load(dir / "c.json");
     const auto task = sim::make_task(config.task);
     // generation -> {policies, pressed, picked up, carried, released at the basket, collected}
     std::map<std::int64_t, std::array<std::int64_t, 6>> expected;

@@ -4,8 +4,8 @@
 #include "db/database.hpp"
 #include "db/kb_store.hpp"
 #include "evo/pareto.hpp"
-#include "exp/replay.hpp"
 #include "kb_cli/fixtures.hpp"
+#include "runs/replay.hpp"
 #include "sim/sensors.hpp"
 #include "support/run_cli.hpp"
 #include "support/temp_dir.hpp"
@@ -19,7 +19,7 @@ constexpr auto kChannels = static_cast<std::size_t>(sim::kChannels);
 
 // the oracle: the KB's own lookup on the replayed behaviour
 kb::Lookup expected_lookup(const kb::KnowledgeBase& kb, const std::filesystem::path& run, std::int64_t id) {
-    const auto behaviour = exp::replay_behaviour(run, std::to_string(id));
+    const auto behaviour = runs::replay_behaviour(run, std::to_string(id));
     return kb.lookup(kb::segment_behaviour(behaviour, kChannels, kb.params().segment_width));
 }
 
@@ -182,8 +182,8 @@ TEST_CASE("shape prints the r_max and matches that KnowledgeBase::lookup gives f
                                      "--individual", "best", "--json"});
         REQUIRE(result.exit_code == 0);
         const auto out = nlohmann::json::parse(result.out);
-        exp::Replay best;
-        exp::replay_behaviour(run, "best", &best);
+        runs::Replay best;
+        runs::replay_behaviour(run, "best", &best);
         const auto kb = kbtest::load_kb(dir / name);
         const auto lookup = expected_lookup(kb, run, best.individual_id);
         CHECK(out["individual_id"] == best.individual_id);

@@ -6,8 +6,8 @@
 #include "core/error.hpp"
 #include "db/database.hpp"
 #include "exp/kb_calibrate.hpp"
-#include "exp/replay.hpp"
 #include "kb_cli/fixtures.hpp"
+#include "runs/replay.hpp"
 #include "sim/sensors.hpp"
 #include "support/run_cli.hpp"
 #include "support/temp_dir.hpp"
@@ -58,8 +58,8 @@ TEST_CASE("kb calibrate on a run uses the replayed best policy and the run's sto
     const auto out = nlohmann::json::parse(result.out);
 
     // oracle: the library's rule on the replayed behaviour, width from the run's KB (10, not the default 20)
-    exp::Replay best;
-    const auto behaviour = exp::replay_behaviour(run, "best", &best);
+    runs::Replay best;
+    const auto behaviour = runs::replay_behaviour(run, "best", &best);
     const auto channels = static_cast<std::size_t>(sim::kChannels);
     CHECK(out["segment_width"] == kbtest::kRunWidth);
     CHECK(out["segment_width_from"] == "the run's knowledge base");
@@ -74,7 +74,7 @@ TEST_CASE("kb calibrate on a run uses the replayed best policy and the run's sto
         auto connection = db::open_database(run, db::OpenMode::read_only);
         auto select = connection.prepare("SELECT individual_id FROM genome ORDER BY individual_id");
         while (select.step())
-            behaviours.push_back(exp::replay_behaviour(run, std::to_string(select.column_int(0))));
+            behaviours.push_back(runs::replay_behaviour(run, std::to_string(select.column_int(0))));
     }
     std::vector<kb::Segments> segments;
     for (const auto& b : behaviours)
@@ -116,7 +116,7 @@ TEST_CASE("kb calibrate's size table does not depend on threads or batch size", 
         auto connection = db::open_database(run, db::OpenMode::read_only);
         auto select = connection.prepare("SELECT individual_id FROM genome ORDER BY individual_id");
         while (select.step())
-            behaviours.push_back(exp::replay_behaviour(run, std::to_string(select.column_int(0))));
+            behaviours.push_back(runs::replay_behaviour(run, std::to_string(select.column_int(0))));
     }
     REQUIRE(behaviours.size() >= 4);  // so that a batch of 3 splits them
     for (const auto& b : behaviours)

@@ -6,8 +6,8 @@
 
 #include "db/database.hpp"
 #include "db/kb_store.hpp"
-#include "exp/replay.hpp"
 #include "kb_cli/fixtures.hpp"
+#include "runs/replay.hpp"
 #include "sim/sensors.hpp"
 #include "support/run_cli.hpp"
 #include "support/temp_dir.hpp"
@@ -76,12 +76,12 @@ struct AnnotatedRun {
             throw std::runtime_error("cannot build the annotated run");
         }
         random_kb = kbtest::load_kb(rand_file);
-        exp::Replay replayed;
-        exp::replay_behaviour(run, "best", &replayed);
+        runs::Replay replayed;
+        runs::replay_behaviour(run, "best", &replayed);
         best = replayed.individual_id;
     }
     kb::Lookup lookup() const {
-        const auto behaviour = exp::replay_behaviour(run, std::to_string(best));
+        const auto behaviour = runs::replay_behaviour(run, std::to_string(best));
         return random_kb.lookup(
             kb::segment_behaviour(behaviour, static_cast<std::size_t>(sim::kChannels), kbtest::kRunWidth));
     }

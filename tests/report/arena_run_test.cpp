@@ -6,10 +6,10 @@
 #include <cmath>
 
 #include "db/connection.hpp"
-#include "exp/evolve_config.hpp"
 #include "images.hpp"
 #include "report/arena_figure.hpp"
 #include "report/style.hpp"
+#include "runs/evolve_config.hpp"
 #include "sim/arena_spec.hpp"
 #include "support/run_cli.hpp"
 #include "support/temp_dir.hpp"
@@ -32,16 +32,16 @@ reporttest::Rgb rgb(report::Colour c) {
 
 TEST_CASE("a run config's arena file is read relative to it and stored whole; the paper's adds no key",
           "[report][arena]") {
-    const auto config = exp::EvolveConfig::load(kArenas / "two_rooms_quick.json");
+    const auto config = runs::EvolveConfig::load(kArenas / "two_rooms_quick.json");
     const auto two_rooms = sim::ArenaSpec::load(kArenas / "two_rooms.json");
     REQUIRE(config.task.arena);
     CHECK(*config.task.arena == two_rooms);
     const auto stored = config.to_json();
     CHECK(stored.at("task").at("arena") == two_rooms.to_json());
     // what a run stores reads back to the same arena, with no file at hand
-    CHECK(*exp::EvolveConfig::from_json(stored).task.arena == two_rooms);
+    CHECK(*runs::EvolveConfig::from_json(stored).task.arena == two_rooms);
     // the paper's arena is the default and leaves the stored config (and so every digest) as it was
-    CHECK_FALSE(exp::EvolveConfig{}.to_json()["task"].contains("arena"));
+    CHECK_FALSE(runs::EvolveConfig{}.to_json()["task"].contains("arena"));
 }
 
 TEST_CASE("the two-rooms arena evolves shaped by a paper-arena KB, renders and shapes",

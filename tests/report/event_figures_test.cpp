@@ -7,9 +7,9 @@
 #include <cstdlib>
 #include <optional>
 
-#include "exp/campaign_events.hpp"
 #include "images.hpp"
 #include "report/canvas.hpp"
+#include "runs/campaign_events.hpp"
 #include "support/temp_dir.hpp"
 
 using namespace stepstone;
@@ -33,16 +33,16 @@ TEST_CASE("the Kaplan-Meier panels draw each treatment's estimate where the hand
           "[report][figures][events]") {
     // none: 4 runs, 1 presses at generation 50, 3 are censored at 100: S = 1 before 50, 3/4 after.
     // sum: 4 runs, all press at generation 50: S = 0 after 50
-    std::vector<exp::RunEvents> runs;
+    std::vector<runs::RunEvents> runs;
     for (int k = 0; k < 4; ++k) {
-        exp::FirstEvents none, sum;
+        runs::FirstEvents none, sum;
         if (k == 0) none[0] = 50;
         sum[0] = 50;
-        runs.push_back({exp::Treatment::none, static_cast<std::uint64_t>(k), none});
-        runs.push_back({exp::Treatment::sum, static_cast<std::uint64_t>(k), sum});
+        runs.push_back({runs::Treatment::none, static_cast<std::uint64_t>(k), none});
+        runs.push_back({runs::Treatment::sum, static_cast<std::uint64_t>(k), sum});
     }
-    const exp::Treatment order[] = {exp::Treatment::none, exp::Treatment::sum};
-    const auto events = exp::campaign_events(runs, order, 100);
+    const runs::Treatment order[] = {runs::Treatment::none, runs::Treatment::sum};
+    const auto events = runs::campaign_events(runs, order, 100);
     Canvas canvas(kPanelFigureWidth, kPanelFigureHeight, Format::png);
     draw_kaplan_meier(canvas, events);
     const std::string bytes = canvas.finish();
@@ -76,14 +76,14 @@ TEST_CASE("the Kaplan-Meier legend moves to the bottom corner when the curves st
           "[report][figures][events]") {
     // 10 runs of none, one presses at generation 5, the others are censored at 100: S = 0.9 from 5 on, a
     // line in the top corner where the legend would cover it with its translucent white box
-    std::vector<exp::RunEvents> runs;
+    std::vector<runs::RunEvents> runs;
     for (int k = 0; k < 10; ++k) {
-        exp::FirstEvents none;
+        runs::FirstEvents none;
         if (k == 0) none[0] = 5;
-        runs.push_back({exp::Treatment::none, static_cast<std::uint64_t>(k), none});
+        runs.push_back({runs::Treatment::none, static_cast<std::uint64_t>(k), none});
     }
-    const exp::Treatment order[] = {exp::Treatment::none};
-    const auto events = exp::campaign_events(runs, order, 100);
+    const runs::Treatment order[] = {runs::Treatment::none};
+    const auto events = runs::campaign_events(runs, order, 100);
     Canvas canvas(kPanelFigureWidth, kPanelFigureHeight, Format::png);
     draw_kaplan_meier(canvas, events);
     const auto image = reporttest::decode_png(canvas.finish());

@@ -1,18 +1,18 @@
 // Every figure renders as a valid, non-blank PNG of the asked size and a
 // well-formed SVG, from data read out of a small run built by the test.
 
-#include <catch2/catch.hpp>
+#include "report/figures.hpp"
 
+#include <catch2/catch.hpp>
 #include <functional>
 
 #include "core/error.hpp"
 #include "db/database.hpp"
-#include "exp/run_store.hpp"
 #include "images.hpp"
 #include "report/arena_figure.hpp"
 #include "report/chart.hpp"
-#include "report/figures.hpp"
 #include "runs.hpp"
+#include "runs/run_store.hpp"
 #include "support/temp_dir.hpp"
 
 using namespace stepstone;
@@ -33,24 +33,24 @@ void check_figure(const std::string& name, int width, int height, const std::fun
 }
 
 // a campaign's statistics made by hand: two treatments, three runs each
-exp::CampaignStats hand_stats() {
-    exp::CampaignStats stats;
+runs::CampaignStats hand_stats() {
+    runs::CampaignStats stats;
     stats.generation = 4;
     stats.threshold = 0.5;
     const std::vector<std::vector<double>> curves{{0, 0, 0.25, 0.5, 0.5},   {0, 0.1, 0.1, 0.1, 0.6},
                                                   {0, 0, 0, 0, 0.2},        {0, 0, 0, 0, 0},
                                                   {0, 0.05, 0.05, 0.1, 0.1}, {0, 0, 0, 0, 0.05}};
     for (std::size_t r = 0; r < curves.size(); ++r) {
-        const auto t = r < 3 ? exp::Treatment::sum : exp::Treatment::none;
-        exp::RunCurve run;
+        const auto t = r < 3 ? runs::Treatment::sum : runs::Treatment::none;
+        runs::RunCurve run;
         run.treatment = t;
         run.seed = r % 3 + 1;
         run.file = "f";
         run.best = curves[r];
         stats.runs.push_back(run);
     }
-    for (const auto t : {exp::Treatment::sum, exp::Treatment::none}) {
-        exp::TreatmentResult result;
+    for (const auto t : {runs::Treatment::sum, runs::Treatment::none}) {
+        runs::TreatmentResult result;
         result.treatment = t;
         for (const auto& run : stats.runs) {
             if (run.treatment == t) result.best.push_back(run.best.back());
@@ -73,7 +73,7 @@ TEST_CASE("every figure renders as PNG and SVG from a small run", "[report]") {
     test::TempDir dir;
     reporttest::make_run(dir / "run.db");
     auto connection = db::open_database(dir / "run.db", db::OpenMode::read_only);
-    const auto run = exp::load_run(connection);
+    const auto run = runs::load_run(connection);
     const auto generations = load_generations(connection, run.id);
     REQUIRE(generations.size() == 5);  // generations 0 to 4
     const auto stored = figure_kb(dir / "run.db", "");
@@ -100,7 +100,7 @@ TEST_CASE("every figure renders as PNG and SVG from a small run", "[report]") {
     std::vector<GenerationPoint> shaped = generations;
     for (std::size_t g = 0; g < shaped.size(); ++g) shaped[g].mean_shaping = 0.1 * static_cast<double>(g);
     const std::vector<std::vector<std::vector<GenerationPoint>>> series{{shaped, shaped}};
-    const exp::Treatment treatments[] = {exp::Treatment::sum};
+    const runs::Treatment treatments[] = {runs::Treatment::sum};
     check_figure("treatment shaping", kFigureWidth, kFigureHeight,
                  [&](Canvas& c) { draw_treatment_shaping(c, treatments, series); });
     check_figure("treatment medians", kFigureWidth, kFigureHeight,

@@ -9,9 +9,9 @@
 #include "core/text.hpp"
 #include "db/database.hpp"
 #include "db/kb_store.hpp"
-#include "exp/run_store.hpp"
 #include "images.hpp"
 #include "runs.hpp"
+#include "runs/run_store.hpp"
 #include "support/db_files.hpp"
 #include "support/run_cli.hpp"
 #include "support/temp_dir.hpp"
@@ -165,11 +165,11 @@ TEST_CASE("a report of a run with no generation, of a foreign file or into an un
     // a run row and no generation: what a run killed before its first commit leaves
     {
         auto connection = db::open_database(dir / "empty.db", db::OpenMode::create);
-        exp::RunRecord run;
+        runs::RunRecord run;
         run.task = "source";
         run.seed = 1;
         run.config = nlohmann::json::parse(R"({"task": {"kind": "source"}})");
-        exp::insert_run(connection, run, "test");
+        runs::insert_run(connection, run, "test");
     }
     test::write_file(dir / "foreign.db", "this is not a database\n");
     test::write_file(dir / "file.txt", "x");

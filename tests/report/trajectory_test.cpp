@@ -2,18 +2,17 @@
 // computed here from the KB by brute force, not by the renderer's lookup.
 
 #include <catch2/catch.hpp>
-
 #include <cmath>
 #include <limits>
 #include <set>
 
 #include "core/error.hpp"
 #include "db/database.hpp"
-#include "exp/replay.hpp"
 #include "images.hpp"
 #include "kb/segments.hpp"
 #include "report/arena_figure.hpp"
 #include "runs.hpp"
+#include "runs/replay.hpp"
 #include "sim/sensors.hpp"
 #include "support/temp_dir.hpp"
 
@@ -114,8 +113,8 @@ TEST_CASE("trajectory circles take the colour of their segment's KB average", "[
     options.heading_every = 0;  // no heading marks over the circles
     const double r = options.circle_radius * layout.scale;
     const auto individual = moving_individual(dir / "run.db", layout, r);
-    // the behaviour as evolve records it (exp::replay_behaviour), to build the KB
-    const auto behaviour = exp::replay_behaviour(dir / "run.db", individual);
+    // the behaviour as evolve records it (runs::replay_behaviour), to build the KB
+    const auto behaviour = runs::replay_behaviour(dir / "run.db", individual);
     REQUIRE(behaviour.size() == reporttest::kSteps * kChannels);
     const auto base = own_kb(behaviour, 0.05);
     const auto trace = trace_policy(dir / "run.db", individual, 0, &base, "own");
@@ -171,7 +170,7 @@ TEST_CASE("without a knowledge base every circle is white", "[report]") {
 TEST_CASE("an SVG trajectory gives every circle a hover title naming its step and segment", "[report]") {
     test::TempDir dir;
     reporttest::make_run(dir / "run.db");
-    const auto behaviour = exp::replay_behaviour(dir / "run.db", "best");
+    const auto behaviour = runs::replay_behaviour(dir / "run.db", "best");
     const auto base = own_kb(behaviour, 0.05);
     const auto trace = trace_policy(dir / "run.db", "best", 0, &base, "own");
     TrajectoryOptions options;
@@ -192,6 +191,6 @@ TEST_CASE("a start the evaluation never reached, or outside the task, is refused
     test::TempDir dir;
     reporttest::make_run(dir / "run.db");
     CHECK_THROWS_WITH(trace_policy(dir / "run.db", "best", 1, nullptr),
-                      "--start must be within 1 to 1 (the run's starts), got 2");
+                      "`start` must be within 1 to 1 (the run's starts), got 2");
     CHECK_THROWS_AS(trace_policy(dir / "run.db", "best", -1, nullptr), ConfigError);
 }

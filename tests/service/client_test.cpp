@@ -7,8 +7,8 @@
 #include <sstream>
 
 #include "exp/kb_apply.hpp"
-#include "exp/replay.hpp"
 #include "report/runs.hpp"
+#include "runs/replay.hpp"
 #include "server_process.hpp"
 #include "support/run_cli.hpp"
 #include "support/temp_dir.hpp"
@@ -24,7 +24,7 @@ TEST_CASE("the Python client shapes a behaviour and prints the in-process r_max"
         {"replay", (dir / "run.db").string(), "--behaviour-json", (dir / "behaviour.json").string()});
     INFO(replayed.err);
     REQUIRE(replayed.exit_code == 0);
-    const auto behaviour = exp::replay_behaviour(dir / "run.db", "best");
+    const auto behaviour = runs::replay_behaviour(dir / "run.db", "best");
     const auto document = nlohmann::json::parse(test::read_file(dir / "behaviour.json"));
     REQUIRE(document["behaviour"].size() * 15 == behaviour.size());
     CHECK(document["start"] == 1);

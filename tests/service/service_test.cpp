@@ -13,9 +13,9 @@
 #include "db/database.hpp"
 #include "db/kb_store.hpp"
 #include "exp/kb_apply.hpp"
-#include "exp/replay.hpp"
 #include "kb/segments.hpp"
 #include "report/runs.hpp"
+#include "runs/replay.hpp"
 #include "server_process.hpp"
 #include "support/run_cli.hpp"
 #include "support/temp_dir.hpp"
@@ -121,7 +121,7 @@ TEST_CASE("every endpoint answers what the library computes in process", "[servi
     check_matches(answer, base.lookup(kb::as_segments(values, base.params().dim())));
 
     // shape: a whole behaviour matrix, as evolve segments and looks it up
-    const auto behaviour = exp::replay_behaviour(dir / "run.db", "best");
+    const auto behaviour = runs::replay_behaviour(dir / "run.db", "best");
     const auto shaped = post(client, "/v1/kbs/run/shape", {{"behaviour", rows_of(behaviour, 15)}});
     const auto expected = exp::shape_policy(dir / "run.db", dir / "run.db", "best", "run");
     CHECK(shaped["r_max"].get<double>() == expected.r_max);
@@ -253,7 +253,8 @@ TEST_CASE("observations need the token, are durable when answered and equal obse
     test::write_file(dir / "token", "a-long-enough-secret-token\n");
     // three policies: stored behaviours of the run, with rewards of our own
     std::vector<std::vector<float>> behaviours;
-    for (const auto* individual : {"best", "0", "3"}) behaviours.push_back(exp::replay_behaviour(dir / "run.db", individual));
+    for (const auto* individual : {"best", "0", "3"})
+        behaviours.push_back(runs::replay_behaviour(dir / "run.db", individual));
     const double rewards[] = {0.25, 0.5, 0.0};
     json policies = json::array();
     for (std::size_t i = 0; i < 3; ++i) policies.push_back({{"behaviour", rows_of(behaviours[i], 15)}, {"reward", rewards[i]}});

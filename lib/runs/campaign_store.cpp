@@ -1,0 +1,121 @@
+#include "runs/campaign_store.hpp"
+
+#include "core/error.hpp"
+#include "core/text.hpp"
+#include "db/database.hpp"
+#include "db/digest.hpp"
+#include "db/kb_store.hpp"
+#include "runs/run_store.hpp"
+
+namespace stepstone::runs {
+
+namespace fs = std::filesystem;
+
+CampaignIndex load_campaign(const fs::path& dir) {
+    const fs::path path = dir / kCampaignFile;
+    if (!fs::exists(path)) {
+        const bool demo = fs::exists(dir / "campaign" / kCampaignFile);
+        throw DataError(concat(dir.string(), ": no campaign here (", kCampaignFile, " is missing)",
+                               demo ? concat("; the campaign is in ", (dir / "campaign").string()) : ""));
+    }
+    auto connection = db::open_database(path, db::OpenMode::read_only);
+    CampaignIndex index;
+    auto config = connection.prepare(db::sql("campaign/select_config.sql"));
+    if (!config.step()) throw DataError(concat(path.string(), ": holds no campaign"));
+    try {
+        index.config = nlohmann::json::parse(config.column_text(0));
+    } catch (const nlohmann::json::exception& e) {
+        throw DataError(
+            concat(path.string(), ": the stored campaign config is malformed: ", one_line(e.what())));
+    }
+    auto runs = connection.prepare(db::sql("campaign/select_runs.sql"));
+    while (runs.step()) {
+        PlannedRun run;
+        run.step =
+            parse_campaign_step(runs.column_text(runs.column("step")), path.string() + ": campaign_run.step");
+        run.treatment = parse_treatment(runs.column_text(runs.column("treatment")), "campaign_run.treatment");
+        run.seed = static_cast<std::uint64_t>(runs.column_int(runs.column("seed")));
+        run.file = runs.column_text(runs.column("file"));
+        run.generations = static_cast<int>(runs.column_int(runs.column("generations")));
+        index.runs.push_back({run, parse_run_status(runs.column_text(runs.column("status")),
+                                                    path.string() + ": campaign_run.status")});
+    }
+    return index;
+}
+
+void create_campaign_db(const fs::path& path, const CampaignConfig& config,
+                        const std::vector<PlannedRun>& plan) {
+    db::OutputDatabase output(path, false);
+    auto& connection = output.connection();
+    connection.prepare(db::sql("campaign/insert_campaign.sql"))
+        .bind(":config", config.to_json().dump())
+        .step();
+    {
+        auto insert = connection.prepare(db::sql("campaign/insert_run.sql"));
+        for (std::size_t k = 0; k < plan.size(); ++k) {
+            insert.reset();
+            insert.bind(":id", static_cast<std::int64_t>(k + 1))
+                .bind(":step", to_string(plan[k].step))
+                .bind(":treatment", to_string(plan[k].treatment))
+                .bind(":seed", static_cast<std::int64_t>(plan[k].seed))
+                .bind(":file", plan[k].file)
+                .bind(":generations", plan[k].generations)
+                .step();
+        }
+    }  // the statement is finalized before the file is moved into place
+    output.commit();
+}
+
+std::vector<RunState> run_states(const CampaignIndex& index) {
+    std::vector<RunState> runs;
+    for (std::size_t k = 0; k < index.runs.size(); ++k) {
+        RunState state;
+        state.run = index.runs[k].run;
+        state.id = static_cast<std::int64_t>(k + 1);
+        state.status = index.runs[k].status;
+        runs.push_back(state);
+    }
+    return runs;
+}
+
+std::optional<RunFileState> read_run_file(const fs::path& path) {
+    if (!fs::exists(path)) return std::nullopt;
+    auto connection = db::open_database(path, db::OpenMode::read_only);
+    const RunRecord run = load_run(connection);
+    RunFileState state;
+    state.generations_done = run.generations_done;
+    state.finished = run.status == RunStatus::finished;
+    auto best = connection.prepare(db::sql("run/max_best_reward.sql"));
+    if (best.step() && best.column_type(0) != db::Statement::Type::null)
+        state.best_reward = best.column_double(0);
+    return state;
+}
+
+void update_run_row(db::Connection& connection, const RunState& state,
+                    const std::optional<std::string>& digest, double wall_time,
+                    const std::optional<std::string>& error) {
+    auto update = connection.prepare(db::sql("campaign/update_run.sql"));
+    update.bind(":status", to_string(state.status))
+        .bind(":generations_done", state.generations_done)
+        .bind(":best_reward", state.best_reward)
+        .bind(":digest", digest)
+        .bind(":wall_time", wall_time)
+        .bind(":error", error)
+        .bind(":id", state.id);
+    update.step();
+}
+
+void record_kb(db::Connection& connection, const std::string& name, const std::string& file,
+               const std::string& made_from, const fs::path& path) {
+    auto kb_connection = db::open_database(path, db::OpenMode::read_only);
+    const auto stored = db::load_kb(kb_connection);
+    auto upsert = connection.prepare(db::sql("campaign/upsert_kb.sql"));
+    upsert.bind(":name", name)
+        .bind(":file", file)
+        .bind(":made_from", made_from)
+        .bind(":segments", static_cast<std::int64_t>(stored.kb.size()))
+        .bind(":digest", db::kb_digest(stored.kb, stored.randomized_seed));
+    upsert.step();
+}
+
+}  // namespace stepstone::runs

@@ -1,0 +1,91 @@
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+
+#include "kb/knowledge_base.hpp"
+#include "nn/dnn_config.hpp"
+#include "runs/treatment.hpp"
+#include "sim/task.hpp"
+
+namespace stepstone::runs {
+
+/// The largest seed a config accepts (seeds are stored as SQLite integers).
+inline constexpr std::int64_t kMaxSeed = std::numeric_limits<std::int64_t>::max();
+
+/// NSGA-II settings (docs/original.md: NSGA-II). Defaults are the paper's.
+struct EaConfig {
+    /// mu = lambda; a positive multiple of 4 (the tournament works in blocks of 4).
+    int population_size = 200;
+    /// Epochs after generation 0 (the random start): 4000 gives sferes2's
+    /// nb_gen = 4001 generations, numbered 0 to 4000.
+    int generations = 4000;
+    /// Generation 0 evaluates initial_multiplier x population_size random
+    /// genomes and keeps population_size (sferes2 initial_aleat = 2).
+    int initial_multiplier = 2;
+};
+
+/// The knowledge base a run builds from its own policies (the paper's
+/// section II.B). Defaults are the paper's.
+struct KbConfig {
+    int segment_width = static_cast<int>(kb::kDefaultSegmentWidth);  ///< time steps per segment
+    double delta = 1.83;                 ///< a segment closer than delta to a KB segment credits it
+    int period = 200;                    ///< observe every `period` generations (1 = every generation)
+    std::string match = "within_delta";  ///< lookup rule: within_delta | nearest
+};
+
+/// The knowledge base that shapes a run's reward and how (the paper's
+/// treatments, section III.D).
+struct TransferConfig {
+    Treatment treatment = Treatment::none;
+    /// The KB file. In a config file a relative path is relative to the
+    /// config file's folder; on the command line, to the working directory.
+    std::filesystem::path kb;
+    std::string kb_name;    ///< the KB in that file; empty: the file's only one
+    std::string kb_digest;  ///< content digest of the KB used, filled when the run starts and stored
+};
+
+/// Which genomes a run stores for replay.
+enum class Retain {
+    front,  ///< the first front and the best of every generation
+    all,    ///< every evaluated genome
+};
+
+/// Everything `stepstone evolve` reads from its config file.
+struct EvolveConfig {
+    sim::TaskConfig task;
+    nn::DnnConfig dnn;
+    EaConfig ea;
+    std::optional<std::uint64_t> seed;  ///< absent: drawn from the OS and stored
+    Retain retain = Retain::front;
+    std::optional<KbConfig> kb;              ///< absent: the run builds no knowledge base
+    std::optional<TransferConfig> transfer;  ///< absent: no shaping (treatment none)
+
+    /// The run's treatment (none without a transfer block).
+    Treatment treatment() const { return transfer ? transfer->treatment : Treatment::none; }
+
+    /// Strict parse: unknown keys, wrong types and out-of-range values throw
+    /// ConfigError naming `source` and the key path. Keys: task {kind,
+    /// steps_per_start, starts, still_limit, grid_period}, ea {population_size,
+    /// generations, initial_multiplier}, dnn {see nn::DnnConfig}, kb
+    /// {segment_width, delta, period, match}, transfer {treatment, kb,
+    /// kb_name, kb_digest}, seed, retain.
+    /// task.arena names an arena file (relative to `folder`, else to the working
+    /// directory) or holds the arena itself (sim::ArenaSpec::from_json).
+    static EvolveConfig from_json(const nlohmann::json& json, const std::string& source = "config",
+                                  const std::filesystem::path& folder = {});
+    /// Reads and parses a config file; a relative transfer.kb or task.arena is
+    /// taken relative to the file's folder.
+    static EvolveConfig load(const std::filesystem::path& path);
+
+    /// The effective config as stored with the run: every key with its value,
+    /// the seed included, `ea.generations` excluded (it is the run's own
+    /// column, so a run can be extended on resume).
+    nlohmann::json to_json() const;
+};
+
+}  // namespace stepstone::runs
