@@ -6,14 +6,20 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <random>
+#include <set>
 
 #include "core/error.hpp"
+#include "core/rng.hpp"
 #include "db/database.hpp"
 #include "db/digest.hpp"
 #include "db/kb_store.hpp"
-#include "kb/knowledge_base.hpp"
+#include "runs/replay.hpp"
 #include "runs/run_status.hpp"
 #include "runs/run_store.hpp"
+#include "kb/knowledge_base.hpp"
+#include "kb/oracle.hpp"
+#include "sim/episode.hpp"
+#include "sim/sensors.hpp"
 #include "support/run_cli.hpp"
 #include "support/temp_dir.hpp"
 
@@ -42,6 +48,58 @@ kb::KnowledgeBase two_segment_kb(double near, double far, kb::Match match = kb::
     base.observe(kb::as_segments(zeros, params.dim()), near, {source, 0});
     base.observe(kb::as_segments(fives, params.dim()), far, {source, 0});
     return base;
+}
+
+// A KB whose r_max differs from policy to policy: 21 width-20, 15-channel
+// segments, every value of segment j equal to j / 20, with averages scrambled
+// over j ((8 j mod 21) + 1) / 22, all distinct (8 and 21 are coprime). Under match = nearest a policy
+// segment matches the level nearest its mean, so policies that behave
+// differently get different r_max.
+kb::KnowledgeBase level_kb() {
+    kb::KbParams params;
+    params.segment_width = 20;
+    params.channels = 15;
+    params.delta = 0.1;  // the levels lie 0.05 x sqrt(300) = 0.87 apart: each is kept
+    params.match = kb::Match::nearest;
+    kb::KnowledgeBase base(params);
+    const auto source = base.add_source("levels");
+    for (int j = 0; j <= 20; ++j) {
+        const std::vector<float> level(params.dim(), static_cast<float>(j) / 20.0f);
+        base.observe(kb::as_segments(level, params.dim()), ((8 * j) % 21 + 1) / 22.0, {source, 0});
+    }
+    return base;
+}
+
+// The first start's behaviour matrix of stored individual `id` (steps x 15: the
+// 12 inputs then the 3 outputs), gathered from what the replay's observer sees
+// at each step rather than from the episode's own recording; rows after an
+// early stop repeat the last one (docs/simulator.md).
+std::vector<float> observed_behaviour(const std::filesystem::path& run, std::int64_t id, std::size_t steps) {
+    auto setup = runs::prepare_replay(run, std::to_string(id));
+    std::vector<float> rows;
+    setup.run([&](const sim::StepView& view) {
+        if (view.start != 0) return;
+        rows.insert(rows.end(), view.inputs, view.inputs + sim::kInputs);
+        rows.insert(rows.end(), view.outputs, view.outputs + sim::kOutputs);
+    });
+    REQUIRE(rows.size() >= static_cast<std::size_t>(sim::kChannels));
+    const std::vector<float> last(rows.end() - sim::kChannels, rows.end());
+    while (rows.size() < steps * sim::kChannels) rows.insert(rows.end(), last.begin(), last.end());
+    return rows;
+}
+
+// r_max by a linear scan (tests/kb/oracle.hpp): the largest average of the KB
+// segments nearest to each whole width-20 segment of `behaviour`
+double oracle_r_max(const kb::KnowledgeBase& base, const std::vector<float>& behaviour) {
+    const std::vector<float> values(base.values().begin(), base.values().end());
+    const std::size_t dim = base.params().dim();
+    double r_max = 0.0;
+    for (std::size_t s = 0; (s + 1) * dim <= behaviour.size(); ++s) {
+        const auto nearest = ::kbtest::oracle_nearest(values, dim, behaviour.data() + s * dim);
+        REQUIRE(nearest);
+        r_max = std::max(r_max, base.record(nearest->first).average());
+    }
+    return r_max;
 }
 
 void write_kb(const std::filesystem::path& path, const kb::KnowledgeBase& kb,
@@ -109,8 +167,7 @@ TEST_CASE("sum fitness: n balls always rank below n + 1 balls whatever the shapi
 
 TEST_CASE("sum fitness by hand: the normalised r_max times one ball less the margin", "[exp][treatment]") {
     // 2 balls, r_max 0.3 of a KB whose best average is 0.6: 2/24 + 0.5 x (1/24) x (1 - 1/1024)
-    CHECK(runs::sum_fitness(2 * kBall, 0.3, 0.6, kBall) ==
-          Approx(2.0 / 24 + 0.5 / 24 * 1023.0 / 1024).epsilon(1e-15));
+    CHECK(runs::sum_fitness(2 * kBall, 0.3, 0.6, kBall) == Approx(2.0 / 24 + 0.5 / 24 * 1023.0 / 1024).epsilon(1e-15));
     // r_max = 0 adds nothing; a KB whose averages are all 0 shapes nothing
     CHECK(runs::sum_fitness(3 * kBall, 0.0, 0.6, kBall) == 3 * kBall);
     CHECK(runs::sum_fitness(3 * kBall, 0.0, 0.0, kBall) == 3 * kBall);
@@ -121,8 +178,7 @@ TEST_CASE("sum fitness by hand: the normalised r_max times one ball less the mar
 TEST_CASE("each treatment selects on its own objectives", "[exp][treatment]") {
     using runs::Treatment;
     const double r = 5 * kBall, d = 17.0, rmax = 0.25, top = 0.5;
-    CHECK(runs::treatment_objectives(Treatment::none, r, d, std::nullopt, 0, kBall) ==
-          std::vector<double>{r, d});
+    CHECK(runs::treatment_objectives(Treatment::none, r, d, std::nullopt, 0, kBall) == std::vector<double>{r, d});
     CHECK(runs::treatment_objectives(Treatment::none, r, d, rmax, top, kBall) == std::vector<double>{r, d});
     const double shaped = r + 0.5 * kBall * (1.0 - 1.0 / 1024);
     for (Treatment t : {Treatment::sum, Treatment::sum_rand}) {
@@ -139,9 +195,8 @@ TEST_CASE("each treatment selects on its own objectives", "[exp][treatment]") {
 TEST_CASE("treatment names parse and print; an unknown one is refused", "[exp][treatment]") {
     for (auto t : runs::all_treatments()) CHECK(runs::parse_treatment(std::string(runs::to_string(t))) == t);
     CHECK(runs::all_treatments().size() == 5);
-    CHECK_THROWS_WITH(
-        runs::parse_treatment("summ", "--treatment"),
-        Contains("--treatment") && Contains("none, sum, mo, sum-rand, mo-rand") && Contains("summ"));
+    CHECK_THROWS_WITH(runs::parse_treatment("summ", "--treatment"),
+                      Contains("--treatment") && Contains("none, sum, mo, sum-rand, mo-rand") && Contains("summ"));
 }
 
 TEST_CASE("evolve sum: every fitness is reward + the hand-computed bonus", "[exp][treatment][cli]") {
@@ -160,6 +215,36 @@ TEST_CASE("evolve sum: every fitness is reward + the hand-computed bonus", "[exp
     }
     CHECK(run_text(dir / "sum.db", "SELECT treatment FROM run") == "sum");
     CHECK(run_text(dir / "sum.db", "SELECT json_extract(config, '$.transfer.treatment') FROM run") == "sum");
+}
+
+TEST_CASE("evolve sum with a KB whose r_max differs by policy: each policy's r_max is its own behaviour's",
+          "[exp][treatment][cli]") {
+    test::TempDir dir;
+    test::write_file(dir / "t.json", kTarget);
+    const auto base = level_kb();
+    write_kb(dir / "kb.db", base);
+    REQUIRE(evolve(dir, "sum.db", {"--kb", (dir / "kb.db").string(), "--treatment", "sum", "--retain", "all"})
+                .exit_code == 0);
+    const double top = 21.0 / 22.0;  // the largest of the scrambled averages
+    auto connection = db::open_database(dir / "sum.db", db::OpenMode::read_only);
+    auto rows = connection.prepare("SELECT id, reward, fitness, shaping FROM individual ORDER BY id");
+    std::size_t checked = 0;
+    std::set<double> values;
+    while (rows.step()) {
+        const std::int64_t id = rows.column_int(0);
+        const double reward = rows.column_double(1), fitness = rows.column_double(2);
+        CAPTURE(id);
+        REQUIRE(rows.column_type(3) != db::Statement::Type::null);
+        // every policy replayed from its stored genome, its r_max looked up here
+        const double expected = oracle_r_max(base, observed_behaviour(dir / "sum.db", id, 200));
+        CHECK(rows.column_double(3) == expected);
+        CHECK(fitness == Approx(reward + expected / top * kBall * (1.0 - 1.0 / 1024)).epsilon(1e-14));
+        values.insert(expected);
+        ++checked;
+    }
+    CHECK(checked == 16 + 2 * 8);
+    // enough distinct r_max that a policy given another's lookup is seen
+    CHECK(values.size() >= 4);
 }
 
 TEST_CASE("evolve mo: r_max is the third objective and fitness stays the reward", "[exp][treatment][cli]") {
@@ -206,11 +291,14 @@ TEST_CASE("rand treatments use the randomized KB and record which", "[exp][treat
     write_kb(dir / "kb.db", base);
     write_kb(dir / "rand.db", randomized, 7);
     REQUIRE(evolve(dir, "sr.db", {"--kb", (dir / "rand.db").string(), "--treatment", "sum-rand"}).exit_code == 0);
+    // the randomized averages by the documented rule (KnowledgeBase::randomized), not by it:
+    // segment i gets the i-th draw of Rng(seed, 0, 0, Purpose::kb_randomize)
+    Rng draws(7, 0, 0, Purpose::kb_randomize);
+    const double near = draws.uniform();
+    const double top = std::max(near, draws.uniform());
     for (const auto& row : individuals(dir / "sr.db")) {
         REQUIRE(row.shaping);
         // the zero segment's randomized average, normalised by the randomized KB's best
-        const double near = randomized.record(0).average();
-        const double top = std::max(near, randomized.record(1).average());
         CHECK(*row.shaping == near);
         CHECK(row.fitness == Approx(row.reward + near / top * kBall * (1.0 - 1.0 / 1024)).epsilon(1e-14));
     }

@@ -1,18 +1,21 @@
 // Every figure renders as a valid, non-blank PNG of the asked size and a
-// well-formed SVG, from data read out of a small run built by the test.
+// well-formed SVG, from data read out of a small run built by the test; and
+// what a figure shows, read back from its pixels against hand-made data.
 
 #include "report/figures.hpp"
 
 #include <catch2/catch.hpp>
+#include <cmath>
 #include <functional>
 
 #include "core/error.hpp"
 #include "db/database.hpp"
+#include "runs/run_store.hpp"
 #include "images.hpp"
 #include "report/arena_figure.hpp"
 #include "report/chart.hpp"
 #include "runs.hpp"
-#include "runs/run_store.hpp"
+#include "sim/task.hpp"
 #include "support/temp_dir.hpp"
 
 using namespace stepstone;
@@ -192,4 +195,70 @@ TEST_CASE("a curve drawn exactly over another says so in the legend", "[report]"
     CHECK(entries[0].first == "sum");
     CHECK(entries[1].first == "mo (same line as sum)");
     CHECK(entries[2].first == "none");
+}
+
+TEST_CASE("a trajectory figure draws a known path where the arena's geometry puts it, and floor around it",
+          "[report]") {
+    // a hand-made trace on the paper's arena: 20 steps right along y = 235 from x = 250, then
+    // 20 down along x = 360 from y = 240 (units), in the room below the horizontal wall
+    sim::TaskConfig config;
+    config.kind = sim::TaskKind::source;
+    config.steps_per_start = 40;
+    config.starts = 1;
+    Trace trace;
+    trace.task = sim::make_task(config);
+    for (int k = 0; k < 40; ++k) {
+        TraceStep step;
+        step.step = k;
+        step.x = k < 20 ? 250.0 + 5.0 * k : 360.0;
+        step.y = k < 20 ? 235.0 : 240.0 + 5.0 * (k - 20);
+        step.lit = trace.task->initial_lit();
+        trace.steps.push_back(step);
+    }
+    // segments of 10 steps matched with averages 1, 0, 0.25 and 1 of a largest 1
+    trace.segment_width = 10;
+    trace.max_average = 1.0;
+    const double averages[] = {1.0, 0.0, 0.25, 1.0};
+    for (std::size_t i = 0; i < 4; ++i) {
+        kb::SegmentMatch match;
+        match.id = i;
+        match.average_reward = averages[i];
+        trace.segments.push_back(match);
+    }
+    TrajectoryOptions options;
+    options.heading_every = 0;
+    options.title = "a known path";
+    Canvas canvas(800, 680, Format::png);
+    draw_trajectory(canvas, trace, options);
+    const auto image = reporttest::decode_png(canvas.finish());
+
+    // the documented geometry (ArenaLayout in report/arena_figure.hpp: 600 units -> 750 px,
+    // px = 25 + 1.25 x, py = 46 + 1.25 y, y down as in the simulator), written out here
+    const auto pixel = [&](double x, double y) {
+        return image.at(static_cast<int>(std::floor(25.0 + 1.25 * x)),
+                        static_cast<int>(std::floor(46.0 + 1.25 * y)));
+    };
+    const auto near_colour = [](reporttest::Rgb a, reporttest::Rgb b) {
+        return std::abs(a.r - b.r) <= 1 && std::abs(a.g - b.g) <= 1 && std::abs(a.b - b.b) <= 1;
+    };
+    // the saliency ramp by hand: white to #08306B; a quarter of the way is
+    // 255 + (0x08 - 255) / 4 = 193.25, 255 + (0x30 - 255) / 4 = 203.25, 255 + (0x6B - 255) / 4 = 218
+    const reporttest::Rgb by_segment[] = {
+        {0x08, 0x30, 0x6B}, {255, 255, 255}, {193, 203, 218}, {0x08, 0x30, 0x6B}};
+    for (const auto& step : trace.steps) {
+        const auto seen = pixel(step.x, step.y);
+        const auto expected = by_segment[step.step / 10];
+        CAPTURE(step.step, step.x, step.y, seen.r, seen.g, seen.b, expected.r, expected.g, expected.b);
+        CHECK(near_colour(seen, expected));
+    }
+    // the floor (#F2F2F2) stays bare beside the path (6 units off it), where the path would
+    // lie with x and y swapped, and between the legs
+    const reporttest::Rgb floor_colour{0xF2, 0xF2, 0xF2};
+    const std::pair<double, double> bare[] = {{300, 229}, {300, 241}, {354, 300}, {366, 300},
+                                              {235, 300}, {300, 360}, {310, 265}};
+    for (const auto& [x, y] : bare) {
+        const auto seen = pixel(x, y);
+        CAPTURE(x, y, seen.r, seen.g, seen.b);
+        CHECK(seen == floor_colour);
+    }
 }
