@@ -176,8 +176,9 @@ void run_report(const ReportOptions& options, const fs::path& dir, ReportSummary
                                ArenaLayout::fit(task->arena_spec()));
                 });
     progress.update(3);
-    const auto stored = figure_kb(options.input, "", "");
-    const auto trace = trace_policy(options.input, "best", 0, stored ? &stored->kb : nullptr, stored ? stored->name : "");
+    const auto stored = run_kb(connection);
+    const auto trace = trace_policy(connection, run, config, "best", 0, stored ? &stored->kb : nullptr,
+                                    stored ? stored->name : "");
     add_trajectory(page, "trajectory", trace, "The run's best stored policy");
     progress.update(4);
     if (stored) {

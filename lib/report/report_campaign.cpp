@@ -11,12 +11,12 @@
 #include "core/text.hpp"
 #include "core/version.hpp"
 #include "db/database.hpp"
-#include "exp/campaign/campaign.hpp"
 #include "report/chart.hpp"
 #include "report/event_figures.hpp"
 #include "report/figures.hpp"
 #include "report/sections.hpp"
 #include "runs/campaign_stats.hpp"
+#include "runs/campaign_store.hpp"
 #include "runs/run_store.hpp"
 
 namespace stepstone::report {
@@ -25,48 +25,10 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// a campaign_run row with what the report shows
-struct RunRow {
-    runs::CampaignStep step = runs::CampaignStep::target;
-    runs::RunStatus status = runs::RunStatus::pending;
-    std::string treatment, file, digest, error;
-    std::uint64_t seed = 0;
-    int generations = 0, generations_done = -1;
-    std::optional<double> best_reward;
-    double wall_time = 0.0;
-};
-
 struct KbRow {
     std::string name, file, made_from, digest;
     std::int64_t segments = 0;
 };
-
-std::vector<RunRow> load_runs(db::Connection& connection) {
-    auto rows = connection.prepare(db::sql("report/select_campaign_runs.sql"));
-    const int step = rows.column("step"), treatment = rows.column("treatment"), seed = rows.column("seed"),
-              file = rows.column("file"), generations = rows.column("generations"),
-              status = rows.column("status"), done = rows.column("generations_done"),
-              best = rows.column("best_reward"), digest = rows.column("digest"),
-              wall_time = rows.column("wall_time"), error = rows.column("error");
-    std::vector<RunRow> out;
-    while (rows.step()) {
-        RunRow r;
-        r.step = runs::parse_campaign_step(rows.column_text(step), connection.name() + ": campaign_run.step");
-        r.treatment = rows.column_text(treatment);
-        r.seed = static_cast<std::uint64_t>(rows.column_int(seed));
-        r.file = rows.column_text(file);
-        r.generations = static_cast<int>(rows.column_int(generations));
-        r.status =
-            runs::parse_run_status(rows.column_text(status), connection.name() + ": campaign_run.status");
-        r.generations_done = static_cast<int>(rows.column_int(done));
-        if (!rows.is_null(best)) r.best_reward = rows.column_double(best);
-        if (!rows.is_null(digest)) r.digest = rows.column_text(digest);
-        r.wall_time = rows.column_double(wall_time);
-        if (!rows.is_null(error)) r.error = rows.column_text(error);
-        out.push_back(std::move(r));
-    }
-    return out;
-}
 
 std::vector<KbRow> load_kbs(db::Connection& connection) {
     auto rows = connection.prepare(db::sql("report/select_campaign_kbs.sql"));
@@ -82,7 +44,8 @@ std::vector<KbRow> load_kbs(db::Connection& connection) {
 
 // the statistics at the asked generation, or at the last one every target
 // run has reached when some are unfinished (said in `notes`)
-std::optional<runs::CampaignStats> load_stats(const ReportOptions& options, const std::vector<RunRow>& runs,
+std::optional<runs::CampaignStats> load_stats(const ReportOptions& options,
+                                              const std::vector<runs::CampaignRun>& runs,
                                               std::vector<std::string>& notes) {
     try {
         return runs::campaign_stats(options.input, options.generation, options.threshold);
@@ -91,7 +54,7 @@ std::optional<runs::CampaignStats> load_stats(const ReportOptions& options, cons
         int reached = -1;
         bool any = false;
         for (const auto& r : runs) {
-            if (r.step != runs::CampaignStep::target) continue;
+            if (r.run.step != runs::CampaignStep::target) continue;
             reached = any ? std::min(reached, r.generations_done) : r.generations_done;
             any = true;
         }
@@ -124,22 +87,22 @@ std::string p_value(double p) {
     return text;
 }
 
-void add_events(Page& page, const runs::CampaignStats& stats, const std::vector<RunRow>& runs,
+void add_events(Page& page, const runs::CampaignStats& stats, const std::vector<runs::CampaignRun>& runs,
                 const fs::path& dir);
 
 // load(connection, run_id) of every target run file present, per treatment in the given order
 template <class Load>
-auto per_treatment(const std::vector<RunRow>& runs, const fs::path& dir,
+auto per_treatment(const std::vector<runs::CampaignRun>& runs, const fs::path& dir,
                    std::span<const runs::Treatment> treatments, Load load) {
     using Row = decltype(load(std::declval<db::Connection&>(), std::int64_t{}));
     std::vector<std::vector<Row>> series;
     for (const auto t : treatments) {
         series.emplace_back();
         for (const auto& r : runs) {
-            if (r.step != runs::CampaignStep::target || r.treatment != runs::to_string(t) ||
-                !fs::exists(dir / r.file))
+            if (r.run.step != runs::CampaignStep::target || r.run.treatment != t ||
+                !fs::exists(dir / r.run.file))
                 continue;
-            auto connection = db::open_database(dir / r.file, db::OpenMode::read_only);
+            auto connection = db::open_database(dir / r.run.file, db::OpenMode::read_only);
             series.back().push_back(load(connection, runs::load_run(connection).id));
         }
     }
@@ -147,7 +110,7 @@ auto per_treatment(const std::vector<RunRow>& runs, const fs::path& dir,
 }
 
 // `largest`: the largest average reward of each of the campaign's KBs ("kb", "kb-rand")
-void add_statistics(Page& page, const runs::CampaignStats& stats, const std::vector<RunRow>& runs,
+void add_statistics(Page& page, const runs::CampaignStats& stats, const std::vector<runs::CampaignRun>& runs,
                     const fs::path& dir, const std::map<std::string, double>& largest) {
     page.heading("Treatments compared");
     page.paragraph(concat("Target runs at generation ", stats.generation, "; a run succeeds when its best-of-run task "
@@ -247,7 +210,7 @@ void add_statistics(Page& page, const runs::CampaignStats& stats, const std::vec
 }
 
 // the time to each milestone: Kaplan-Meier figure, log-rank table, shares of policies
-void add_events(Page& page, const runs::CampaignStats& stats, const std::vector<RunRow>& runs,
+void add_events(Page& page, const runs::CampaignStats& stats, const std::vector<runs::CampaignRun>& runs,
                 const fs::path& dir) {
     page.heading("Milestones: when runs first reach each step of the task");
     if (!stats.events) {
@@ -294,10 +257,10 @@ void add_events(Page& page, const runs::CampaignStats& stats, const std::vector<
 }
 
 // the finished run of `step` with the highest best reward (first on ties)
-const RunRow* best_run(const std::vector<RunRow>& runs, runs::CampaignStep step) {
-    const RunRow* best = nullptr;
+const runs::CampaignRun* best_run(const std::vector<runs::CampaignRun>& runs, runs::CampaignStep step) {
+    const runs::CampaignRun* best = nullptr;
     for (const auto& r : runs) {
-        if (r.step != step || !r.best_reward || r.generations_done < 0) continue;
+        if (r.run.step != step || !r.best_reward || r.generations_done < 0) continue;
         if (best == nullptr || *r.best_reward > *best->best_reward) best = &r;
     }
     return best;
@@ -307,9 +270,9 @@ const RunRow* best_run(const std::vector<RunRow>& runs, runs::CampaignStep step)
 
 void campaign_report(const ReportOptions& options, const fs::path& dir, ReportSummary& summary) {
     const fs::path& campaign_dir = options.input;
-    const auto index = runs::load_campaign(campaign_dir);
     auto connection = db::open_database(campaign_dir / "campaign.db", db::OpenMode::read_only);
-    const auto runs = load_runs(connection);
+    const auto index = runs::load_campaign(connection);
+    const auto& runs = index.runs;
     const auto kbs = load_kbs(connection);
     Progress progress("report", 4, options.progress);
     Page page(dir, concat("stepstone report: campaign ", campaign_dir.lexically_normal().string()));
@@ -345,9 +308,9 @@ void campaign_report(const ReportOptions& options, const fs::path& dir, ReportSu
     progress.update(2);
     if (const auto* source = best_run(runs, runs::CampaignStep::source)) {
         page.heading("The best source policy");
-        const auto trace = trace_policy(campaign_dir / source->file, "best", 0, kb ? &kb->kb : nullptr,
+        const auto trace = trace_policy(campaign_dir / source->run.file, "best", 0, kb ? &kb->kb : nullptr,
                                         kb ? kb->name : "");
-        add_trajectory(page, "source-best", trace, concat("The best policy of ", source->file));
+        add_trajectory(page, "source-best", trace, concat("The best policy of ", source->run.file));
     }
     progress.update(3);
     if (const auto* target = best_run(runs, runs::CampaignStep::target)) {
@@ -358,27 +321,29 @@ void campaign_report(const ReportOptions& options, const fs::path& dir, ReportSu
             page.paragraph(
                 concat("No target run has a policy that collected a ball (every best reward is 0). "
                        "Below: the first stored policy of ",
-                       xml_escape(target->file),
+                       xml_escape(target->run.file),
                        ", to show where such policies drive; the milestones above say how far the "
                        "runs got."));
         }
         // coloured by the KB the run was shaped with
-        const bool randomized = target->treatment.ends_with("-rand");
+        const bool randomized = runs::needs_randomized_kb(target->run.treatment);
         const auto it = loaded.find(randomized ? "kb-rand" : "kb");
         const db::StoredKb* used = it == loaded.end() ? nullptr : &it->second;
-        const auto trace = trace_policy(campaign_dir / target->file, "best", 0, used ? &used->kb : nullptr,
-                                        used ? used->name : "");
-        add_trajectory(page, "target-best", trace,
-                       concat(scored ? "The best policy of " : "A policy of ", target->file, " (treatment ",
-                              target->treatment, scored ? ")" : ", reward 0)"));
+        const auto trace = trace_policy(campaign_dir / target->run.file, "best", 0,
+                                        used ? &used->kb : nullptr, used ? used->name : "");
+        add_trajectory(
+            page, "target-best", trace,
+            concat(scored ? "The best policy of " : "A policy of ", target->run.file, " (treatment ",
+                   runs::to_string(target->run.treatment), scored ? ")" : ", reward 0)"));
     }
     progress.update(4);
 
     page.heading("Runs");
     std::vector<std::vector<std::string>> rows;
     for (const auto& r : runs) {
-        rows.push_back({r.file, std::string(runs::to_string(r.step)), r.treatment, std::to_string(r.seed),
-                        concat(r.generations_done, " / ", r.generations),
+        rows.push_back({r.run.file, std::string(runs::to_string(r.run.step)),
+                        std::string(runs::to_string(r.run.treatment)), std::to_string(r.run.seed),
+                        concat(r.generations_done, " / ", r.run.generations),
                         std::string(runs::to_string(r.status)),
                         r.best_reward ? fixed(*r.best_reward, 4) : "-", format_duration(r.wall_time),
                         r.digest.empty() ? (r.error.empty() ? "-" : r.error) : r.digest.substr(0, 16)});

@@ -70,9 +70,10 @@ Trace trace_episode(const std::shared_ptr<const sim::Task>& task, const EpisodeR
     return trace;
 }
 
-Trace trace_policy(const std::filesystem::path& run_db, const std::string& individual, int start,
+namespace {
+
+Trace trace_replay(runs::ReplaySetup setup, const std::filesystem::path& run_db, int start,
                    const kb::KnowledgeBase* kb, const std::string& kb_name) {
-    auto setup = runs::prepare_replay(run_db, individual);
     auto trace = trace_episode(
         setup.task, [&](const auto& observer) { return setup.run(observer); }, start, kb, kb_name,
         concat(run_db.filename().string(), ": individual ", setup.replay.individual_id));
@@ -82,6 +83,20 @@ Trace trace_policy(const std::filesystem::path& run_db, const std::string& indiv
     return trace;
 }
 
+}  // namespace
+
+Trace trace_policy(const std::filesystem::path& run_db, const std::string& individual, int start,
+                   const kb::KnowledgeBase* kb, const std::string& kb_name) {
+    return trace_replay(runs::prepare_replay(run_db, individual), run_db, start, kb, kb_name);
+}
+
+Trace trace_policy(db::Connection& connection, const runs::RunRecord& run, const runs::EvolveConfig& config,
+                   const std::string& individual, int start, const kb::KnowledgeBase* kb,
+                   const std::string& kb_name) {
+    return trace_replay(runs::prepare_replay(connection, run, config, individual), connection.name(), start,
+                        kb, kb_name);
+}
+
 std::optional<db::StoredKb> figure_kb(const std::filesystem::path& run_db, const std::filesystem::path& kb_file,
                                       const std::string& kb_name) {
     if (!kb_file.empty()) {
@@ -89,8 +104,12 @@ std::optional<db::StoredKb> figure_kb(const std::filesystem::path& run_db, const
         return db::load_kb(connection, kb_name);
     }
     auto connection = db::open_database(run_db, db::OpenMode::read_only);
-    for (const auto& summary : db::list_kbs(connection)) {
-        if (summary.name == runs::kRunKbName) return db::load_kb(connection, runs::kRunKbName);
+    return run_kb(connection);
+}
+
+std::optional<db::StoredKb> run_kb(db::Connection& run) {
+    for (const auto& summary : db::list_kbs(run)) {
+        if (summary.name == runs::kRunKbName) return db::load_kb(run, runs::kRunKbName);
     }
     return std::nullopt;
 }

@@ -10,6 +10,8 @@
 
 #include "db/kb_store.hpp"
 #include "kb/knowledge_base.hpp"
+#include "runs/evolve_config.hpp"
+#include "runs/run_store.hpp"
 #include "sim/episode.hpp"
 #include "sim/task.hpp"
 
@@ -59,6 +61,11 @@ struct Trace {
 /// unusable file.
 Trace trace_policy(const std::filesystem::path& run_db, const std::string& individual, int start,
                    const kb::KnowledgeBase* kb, const std::string& kb_name = "");
+/// The same from a run file the caller has open, with its run row and config
+/// already read.
+Trace trace_policy(db::Connection& connection, const runs::RunRecord& run, const runs::EvolveConfig& config,
+                   const std::string& individual, int start, const kb::KnowledgeBase* kb,
+                   const std::string& kb_name = "");
 
 /// Runs one evaluation: calls the observer after every step, returns the result.
 using EpisodeRunner = std::function<sim::EpisodeResult(const std::function<void(const sim::StepView&)>&)>;
@@ -74,5 +81,7 @@ Trace trace_episode(const std::shared_ptr<const sim::Task>& task, const EpisodeR
 /// when it built one, else none. Files are opened read-only.
 std::optional<db::StoredKb> figure_kb(const std::filesystem::path& run_db, const std::filesystem::path& kb_file,
                                       const std::string& kb_name = "");
+/// The run's own KB, read from its open file, when it built one.
+std::optional<db::StoredKb> run_kb(db::Connection& run);
 
 }  // namespace stepstone::report

@@ -19,26 +19,41 @@ CampaignIndex load_campaign(const fs::path& dir) {
                                demo ? concat("; the campaign is in ", (dir / "campaign").string()) : ""));
     }
     auto connection = db::open_database(path, db::OpenMode::read_only);
+    return load_campaign(connection);
+}
+
+CampaignIndex load_campaign(db::Connection& connection) {
+    const std::string& path = connection.name();
     CampaignIndex index;
     auto config = connection.prepare(db::sql("campaign/select_config.sql"));
-    if (!config.step()) throw DataError(concat(path.string(), ": holds no campaign"));
+    if (!config.step()) throw DataError(concat(path, ": holds no campaign"));
     try {
         index.config = nlohmann::json::parse(config.column_text(0));
     } catch (const nlohmann::json::exception& e) {
-        throw DataError(
-            concat(path.string(), ": the stored campaign config is malformed: ", one_line(e.what())));
+        throw DataError(concat(path, ": the stored campaign config is malformed: ", one_line(e.what())));
     }
-    auto runs = connection.prepare(db::sql("campaign/select_runs.sql"));
-    while (runs.step()) {
-        PlannedRun run;
-        run.step =
-            parse_campaign_step(runs.column_text(runs.column("step")), path.string() + ": campaign_run.step");
-        run.treatment = parse_treatment(runs.column_text(runs.column("treatment")), "campaign_run.treatment");
-        run.seed = static_cast<std::uint64_t>(runs.column_int(runs.column("seed")));
-        run.file = runs.column_text(runs.column("file"));
-        run.generations = static_cast<int>(runs.column_int(runs.column("generations")));
-        index.runs.push_back({run, parse_run_status(runs.column_text(runs.column("status")),
-                                                    path.string() + ": campaign_run.status")});
+    auto rows = connection.prepare(db::sql("campaign/select_runs.sql"));
+    const int id = rows.column("id"), step = rows.column("step"), treatment = rows.column("treatment"),
+              seed = rows.column("seed"), file = rows.column("file"),
+              generations = rows.column("generations"), status = rows.column("status"),
+              done = rows.column("generations_done"), best = rows.column("best_reward"),
+              digest = rows.column("digest"), wall_time = rows.column("wall_time"),
+              error = rows.column("error");
+    while (rows.step()) {
+        CampaignRun r;
+        r.id = rows.column_int(id);
+        r.run.step = parse_campaign_step(rows.column_text(step), path + ": campaign_run.step");
+        r.run.treatment = parse_treatment(rows.column_text(treatment), "campaign_run.treatment");
+        r.run.seed = static_cast<std::uint64_t>(rows.column_int(seed));
+        r.run.file = rows.column_text(file);
+        r.run.generations = static_cast<int>(rows.column_int(generations));
+        r.status = parse_run_status(rows.column_text(status), path + ": campaign_run.status");
+        r.generations_done = static_cast<int>(rows.column_int(done));
+        if (!rows.is_null(best)) r.best_reward = rows.column_double(best);
+        if (!rows.is_null(digest)) r.digest = rows.column_text(digest);
+        r.wall_time = rows.column_double(wall_time);
+        if (!rows.is_null(error)) r.error = rows.column_text(error);
+        index.runs.push_back(std::move(r));
     }
     return index;
 }
@@ -66,18 +81,6 @@ void create_campaign_db(const fs::path& path, const CampaignConfig& config,
     output.commit();
 }
 
-std::vector<RunState> run_states(const CampaignIndex& index) {
-    std::vector<RunState> runs;
-    for (std::size_t k = 0; k < index.runs.size(); ++k) {
-        RunState state;
-        state.run = index.runs[k].run;
-        state.id = static_cast<std::int64_t>(k + 1);
-        state.status = index.runs[k].status;
-        runs.push_back(state);
-    }
-    return runs;
-}
-
 std::optional<RunFileState> read_run_file(const fs::path& path) {
     if (!fs::exists(path)) return std::nullopt;
     auto connection = db::open_database(path, db::OpenMode::read_only);
@@ -91,7 +94,7 @@ std::optional<RunFileState> read_run_file(const fs::path& path) {
     return state;
 }
 
-void update_run_row(db::Connection& connection, const RunState& state,
+void update_run_row(db::Connection& connection, const CampaignRun& state,
                     const std::optional<std::string>& digest, double wall_time,
                     const std::optional<std::string>& error) {
     auto update = connection.prepare(db::sql("campaign/update_run.sql"));

@@ -22,36 +22,34 @@ inline constexpr const char* kCampaignFile = "campaign.db";
 inline constexpr const char* kKbFile = "kb/kb.db";
 inline constexpr const char* kRandomKbFile = "kb/kb-rand.db";
 
-/// A run as campaign.db lists it: its plan and where it stands.
-struct IndexedRun {
+/// A run of a campaign as campaign.db holds it: its plan and where it stands.
+/// The one model of a campaign's run, for the campaign process that updates
+/// it and for the statistics, the report and the service that read it.
+struct CampaignRun {
     PlannedRun run;
+    std::int64_t id = 0;  ///< its row, 1.. in plan order
     RunStatus status = RunStatus::pending;
+    int generations_done = -1;          ///< as last recorded (-1: none)
+    std::optional<double> best_reward;  ///< as last recorded
+    std::string digest;                 ///< of a finished run; empty otherwise
+    double wall_time = 0;               ///< seconds its last attempt took
+    std::string error;                  ///< why it failed; empty otherwise
 };
 
-/// Where a campaign's runs and KBs are, read from campaign.db.
+/// A campaign's config and runs, read from campaign.db.
 struct CampaignIndex {
     nlohmann::json config;
-    std::vector<IndexedRun> runs;  ///< in plan order
+    std::vector<CampaignRun> runs;  ///< in plan order
 };
 /// Reads campaign.db of `dir`; throws DatabaseError / DataError naming the file.
 CampaignIndex load_campaign(const std::filesystem::path& dir);
+/// Reads an open campaign.db.
+CampaignIndex load_campaign(db::Connection& connection);
 
 /// Writes a new campaign.db at `path` (moved into place whole): the config
 /// and one pending row per planned run, ids 1.. in plan order.
 void create_campaign_db(const std::filesystem::path& path, const CampaignConfig& config,
                         const std::vector<PlannedRun>& plan);
-
-/// One run of campaign.db as the campaign process tracks it.
-struct RunState {
-    PlannedRun run;
-    std::int64_t id = 0;
-    RunStatus status = RunStatus::pending;
-    int generations_done = -1;
-    std::optional<double> best_reward;
-};
-
-/// The runs of `index` as states, ids 1.. in order.
-std::vector<RunState> run_states(const CampaignIndex& index);
 
 /// What a run file says about itself.
 struct RunFileState {
@@ -66,7 +64,7 @@ std::optional<RunFileState> read_run_file(const std::filesystem::path& path);
 
 /// Writes `state`'s status, progress and best reward, with `digest`,
 /// `wall_time` and `error`, to its campaign_run row.
-void update_run_row(db::Connection& connection, const RunState& state,
+void update_run_row(db::Connection& connection, const CampaignRun& state,
                     const std::optional<std::string>& digest, double wall_time,
                     const std::optional<std::string>& error);
 

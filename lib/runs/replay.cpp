@@ -20,7 +20,11 @@ ReplaySetup prepare_replay(const std::filesystem::path& db_path, const std::stri
     const RunRecord run = load_run(connection);
     // the stored config names every value, so no default of this program enters the replay
     const EvolveConfig config = EvolveConfig::from_json(run.config, db_path.string() + " (stored config)");
+    return prepare_replay(connection, run, config, individual);
+}
 
+ReplaySetup prepare_replay(db::Connection& connection, const RunRecord& run, const EvolveConfig& config,
+                           const std::string& individual) {
     StoredGenome stored;
     if (individual == "best") {
         stored = load_best_genome(connection, run.id);

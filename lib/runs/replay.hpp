@@ -8,6 +8,9 @@
 #include <string>
 #include <vector>
 
+#include "db/connection.hpp"
+#include "runs/evolve_config.hpp"
+#include "runs/run_store.hpp"
 #include "sim/episode.hpp"
 
 namespace stepstone::runs {
@@ -42,6 +45,10 @@ struct ReplaySetup {
                            std::span<float> behaviour = {});
 };
 ReplaySetup prepare_replay(const std::filesystem::path& db_path, const std::string& individual);
+/// The same from a run file the caller has open, its run row and the run's
+/// config already read (`config` is `run.config` parsed).
+ReplaySetup prepare_replay(db::Connection& connection, const RunRecord& run, const EvolveConfig& config,
+                           const std::string& individual);
 
 /// The first start's behaviour matrix of a stored genome (rows = time steps,
 /// sim::kChannels columns), with the replay facts in `replay` if not null.

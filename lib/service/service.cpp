@@ -12,9 +12,9 @@
 #include "core/text.hpp"
 #include "db/database.hpp"
 #include "db/kb_store.hpp"
-#include "exp/campaign/campaign.hpp"
 #include "kb/segments.hpp"
 #include "report/figures.hpp"
+#include "runs/campaign_store.hpp"
 #include "runs/kb_stats.hpp"
 #include "runs/run_store.hpp"
 #include "service/body.hpp"
@@ -334,18 +334,16 @@ std::vector<KbService::RunFile> KbService::run_files() const {
 json KbService::runs() const {
     json out = json::array();
     if (campaign_) {
-        auto connection = db::open_database(input_ / "campaign.db", db::OpenMode::read_only);
-        auto rows = connection.prepare(db::sql("report/select_campaign_runs.sql"));
-        while (rows.step()) {
-            out.push_back({{"id", rows.column_int(0)},
-                           {"step", rows.column_text(1)},
-                           {"treatment", rows.column_text(2)},
-                           {"seed", rows.column_int(3)},
-                           {"file", rows.column_text(4)},
-                           {"generations", rows.column_int(5)},
-                           {"status", rows.column_text(6)},
-                           {"generations_done", rows.column_int(7)},
-                           {"best_reward", rows.is_null(8) ? json() : json(rows.column_double(8))}});
+        for (const auto& r : runs::load_campaign(input_).runs) {
+            out.push_back({{"id", r.id},
+                           {"step", runs::to_string(r.run.step)},
+                           {"treatment", runs::to_string(r.run.treatment)},
+                           {"seed", r.run.seed},
+                           {"file", r.run.file},
+                           {"generations", r.run.generations},
+                           {"status", runs::to_string(r.status)},
+                           {"generations_done", r.generations_done},
+                           {"best_reward", r.best_reward ? json(*r.best_reward) : json()}});
         }
         return out;
     }

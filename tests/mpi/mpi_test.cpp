@@ -252,7 +252,7 @@ TEST_CASE(
     CHECK(result.exit_code != 0);
     CHECK_THAT(result.err,
                Contains("stepstone: error: " + run.string() + ": rank 2 (pid " + std::to_string(victim)) &&
-                   Contains("died; stopped after generation") && Contains("--resume --mpi"));
+                   Contains("died; stopped after generation") && Contains("continue with --resume"));
     const auto resumed = test::run_program(
         test::mpirun_command(2, {"evolve", "--db", run.string(), "--resume", "--quiet", "--mpi"}));
     INFO(resumed.err);

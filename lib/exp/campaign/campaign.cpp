@@ -88,7 +88,7 @@ CampaignSummary run_campaign(const CampaignOptions& given) {
 
     db::Connection connection =
         db::open_database(options.dir / runs::kCampaignFile, db::OpenMode::read_write);
-    std::vector<runs::RunState> runs = run_states(index);
+    std::vector<runs::CampaignRun> runs = index.runs;
     std::uint64_t total = 0;
     for (const auto& state : runs) total += static_cast<std::uint64_t>(state.run.generations + 1);
     Progress progress("generation", total, options.progress);

@@ -39,7 +39,7 @@ void gunzip_file(const fs::path& in, const fs::path& out) {
 }
 
 void make_campaign_kbs(const fs::path& dir, const runs::CampaignConfig& config, db::Connection& connection,
-                       const std::vector<runs::RunState>& runs) {
+                       const std::vector<runs::CampaignRun>& runs) {
     const fs::path kb_path = dir / runs::kKbFile;
     fs::create_directories(kb_path.parent_path());
     std::string made_from;
@@ -60,13 +60,13 @@ void make_campaign_kbs(const fs::path& dir, const runs::CampaignConfig& config, 
         }
         made_from = concat("copy of ", config.kb_file_given);
     } else {
-        std::vector<const runs::RunState*> sources;
+        std::vector<const runs::CampaignRun*> sources;
         for (const auto& state : runs) {
             if (state.run.step == runs::CampaignStep::source) sources.push_back(&state);
         }
         if (config.kb_from == runs::KbFrom::best || sources.size() == 1) {
-            const runs::RunState* best = sources.front();
-            for (const runs::RunState* state : sources) {
+            const runs::CampaignRun* best = sources.front();
+            for (const runs::CampaignRun* state : sources) {
                 const double r = state->best_reward.value_or(0), b = best->best_reward.value_or(0);
                 if (r > b || (r == b && state->run.seed < best->run.seed)) best = state;
             }
@@ -75,7 +75,7 @@ void make_campaign_kbs(const fs::path& dir, const runs::CampaignConfig& config, 
                 concat("best source run ", best->run.file, " (reward ", best->best_reward.value_or(0), ")");
         } else {
             std::vector<fs::path> inputs;
-            for (const runs::RunState* state : sources) inputs.push_back(dir / state->run.file);
+            for (const runs::CampaignRun* state : sources) inputs.push_back(dir / state->run.file);
             runs::merge_kb_files(inputs, kb_path, "kb", true, runs::kRunKbName);
             made_from = concat("merge of ", inputs.size(), " source runs");
         }

@@ -19,6 +19,6 @@ void gunzip_file(const std::filesystem::path& in, const std::filesystem::path& o
 /// its randomized twin when a treatment needs it, and records both in
 /// campaign.db through `connection`. `runs` holds the finished source runs.
 void make_campaign_kbs(const std::filesystem::path& dir, const runs::CampaignConfig& config,
-                       db::Connection& connection, const std::vector<runs::RunState>& runs);
+                       db::Connection& connection, const std::vector<runs::CampaignRun>& runs);
 
 }  // namespace stepstone::exp

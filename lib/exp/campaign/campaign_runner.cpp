@@ -90,8 +90,8 @@ fs::path run_log_path(const fs::path& dir, const runs::PlannedRun& run) {
     return dir / "logs" / (fs::path(name).replace_extension(".log"));
 }
 
-Runner::Runner(const CampaignOptions& options, db::Connection& connection, std::vector<runs::RunState>& runs,
-               Progress& progress, RunExecutor& executor)
+Runner::Runner(const CampaignOptions& options, db::Connection& connection,
+               std::vector<runs::CampaignRun>& runs, Progress& progress, RunExecutor& executor)
     : options_(options), connection_(connection), runs_(runs), progress_(progress), executor_(executor) {}
 
 std::vector<std::string> Runner::execute(const std::vector<std::size_t>& indices, CampaignSummary& summary) {

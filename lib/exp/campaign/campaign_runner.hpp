@@ -76,7 +76,7 @@ std::unique_ptr<RunExecutor> make_process_executor(RunCommand command, unsigned 
 /// campaign.db (the only writer there) and the progress line up to date.
 class Runner {
 public:
-    Runner(const CampaignOptions& options, db::Connection& connection, std::vector<runs::RunState>& runs,
+    Runner(const CampaignOptions& options, db::Connection& connection, std::vector<runs::CampaignRun>& runs,
            Progress& progress, RunExecutor& executor);
 
     /// Runs the runs `indices` to the end (finished ones on disk are only
@@ -101,7 +101,7 @@ private:
 
     const CampaignOptions& options_;
     db::Connection& connection_;
-    std::vector<runs::RunState>& runs_;
+    std::vector<runs::CampaignRun>& runs_;
     Progress& progress_;
     RunExecutor& executor_;
 };

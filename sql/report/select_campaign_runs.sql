@@ -1,5 +1,0 @@
--- Every run of a campaign, in plan order, for the report's run table.
-SELECT id, step, treatment, seed, file, generations, status, generations_done, best_reward, digest,
-       wall_time, error
-FROM campaign_run
-ORDER BY id;

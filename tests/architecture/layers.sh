@@ -1,0 +1,38 @@
+#!/usr/bin/env bash
+# The structure docs/architecture.md describes, checked on the source tree:
+#   1. the read side (lib/runs) and what reads runs (lib/report, lib/service)
+#      include nothing of the engine (lib/exp), and link no engine target;
+#   2. no library message names a CLI flag (--name in a string literal);
+#      the libraries name options as `name` (core/text.hpp: option_name);
+#   3. no library or app file is over 600 lines.
+# Usage: layers.sh SOURCE_DIR. Prints every violation; exit 1 if any.
+set -euo pipefail
+src="$1"
+cd "$src"
+failures=0
+fail() { echo "layers: $*"; failures=$((failures + 1)); }
+
+for module in runs report service; do
+    while IFS= read -r hit; do fail "lib/$module uses the engine: $hit"; done \
+        < <(grep -rn '#include "exp/' "lib/$module" || true)
+    if grep -q 'stepstone::exp' "lib/$module/CMakeLists.txt"; then
+        fail "lib/$module/CMakeLists.txt links stepstone::exp"
+    fi
+done
+
+# string literals holding --word, outside comments; bench is the benchmark's own
+# harness (it starts mpirun and stepstone with their flags)
+while IFS= read -r hit; do fail "a library message names a flag: $hit"; done \
+    < <(grep -rnE '"[^"]*--[a-z][a-z-]*' lib --include='*.cpp' --include='*.hpp' \
+            | grep -v '^lib/bench/' | grep -vE '^[^:]+:[0-9]+:\s*//' || true)
+
+while read -r lines file; do
+    [ "$file" = total ] && continue
+    [ "$lines" -gt 600 ] && fail "$file has $lines lines (most files stay under 600)"
+done < <(find lib apps -name '*.cpp' -o -name '*.hpp' | xargs wc -l)
+
+if [ "$failures" -gt 0 ]; then
+    echo "layers: $failures violation(s)"
+    exit 1
+fi
+echo "layers: runs, report and service stay off the engine; no flag in a library message; no file over 600 lines"
