@@ -30,7 +30,7 @@ struct CampaignFlags {
 void run_campaign_command(const CampaignFlags& flags) {
     if (flags.dry_run) {
         const auto config = runs::CampaignConfig::load(flags.config);
-        exp::write_plan(std::cout, config, exp::estimate_cost(config), flags.jobs);
+        exp::write_plan(std::cout, config, exp::estimate_cost(config, flags.dir), flags.jobs);
         return;
     }
     exp::CampaignOptions options;

@@ -426,8 +426,24 @@ TEST_CASE("campaign --dry-run prints the plan and its cost without touching the 
     CHECK_THAT(result.out, Contains("11 runs, 360 evaluations"));
     // 40 x 200 + 320 x 200 steps (one start each)
     CHECK_THAT(result.out, Contains("at most 7.2e+04 robot steps"));
+    // the estimate by kind of run: 1 source run, 2 seeds unshaped (none), 4 with the KB (sum, mo)
+    // and 4 with its randomized twin; the KB is made by the source step, so no lookups are timed
+    CHECK_THAT(result.out, Contains("source                   1 x 40 evaluations"));
+    CHECK_THAT(result.out, Contains("target, unshaped         2 x 32 evaluations"));
+    CHECK_THAT(result.out, Contains("target, KB               4 x 32 evaluations") &&
+                               Contains("target, randomized KB    4 x 32 evaluations") &&
+                               Contains("lookups not counted*") && Contains("about "));
     // nothing but the config in the directory
     CHECK(std::distance(std::filesystem::directory_iterator(dir.path()), std::filesystem::directory_iterator()) == 1);
+
+    // once the campaign's folder holds its KB, a dry run on it times the lookups in that KB
+    REQUIRE(campaign(dir, "camp", {}).exit_code == 0);
+    const auto kb_before = test::read_file(dir / "camp" / "kb" / "kb.db");
+    const auto timed =
+        test::run_cli({"campaign", (dir / "c.json").string(), "--dir", (dir / "camp").string(), "--dry-run"});
+    REQUIRE(timed.exit_code == 0);
+    CHECK_THAT(timed.out, Contains("looked up") && !Contains("not counted"));
+    CHECK(test::read_file(dir / "camp" / "kb" / "kb.db") == kb_before);
 }
 
 TEST_CASE("every example campaign parses; the demo's KB fixture loads with rewards spread over a range",
