@@ -3,7 +3,6 @@
 // named as the user gave them, and usage errors instead of internal ones.
 
 #include <catch2/catch.hpp>
-
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
@@ -11,8 +10,8 @@
 
 #include "db/database.hpp"
 #include "db/digest.hpp"
-#include "kb_cli/fixtures.hpp"
 #include "support/db_files.hpp"
+#include "support/kb_fixtures.hpp"
 #include "support/run_cli.hpp"
 #include "support/temp_dir.hpp"
 

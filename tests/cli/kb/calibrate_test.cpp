@@ -6,9 +6,9 @@
 #include "core/error.hpp"
 #include "db/database.hpp"
 #include "exp/kb_calibrate.hpp"
-#include "kb_cli/fixtures.hpp"
 #include "runs/replay.hpp"
 #include "sim/sensors.hpp"
+#include "support/kb_fixtures.hpp"
 #include "support/run_cli.hpp"
 #include "support/temp_dir.hpp"
 
@@ -16,7 +16,7 @@ using namespace stepstone;
 using Catch::Matchers::Contains;
 
 TEST_CASE("calibration of a hand-made behaviour follows the mean distance to the nearest others",
-          "[kb_cli][calibrate]") {
+          "[cli][kb][calibrate]") {
     // one channel, width 1: segments 0, 1, 3
     const std::vector<float> behaviour{0, 1, 3};
     const std::vector<std::vector<float>> policies{{0, 1, 3}, {0.2f, 10, 10}};
@@ -48,7 +48,7 @@ TEST_CASE("calibration of a hand-made behaviour follows the mean distance to the
 }
 
 TEST_CASE("kb calibrate on a run uses the replayed best policy and the run's stored policies",
-          "[kb_cli][calibrate]") {
+          "[cli][kb][calibrate]") {
     test::TempDir dir;
     kbtest::make_run(dir / "run.db");
     const auto run = dir / "run.db";
@@ -102,7 +102,7 @@ TEST_CASE("kb calibrate on a run uses the replayed best policy and the run's sto
     CHECK_THAT(result.out, Contains("KB size over the"));
 }
 
-TEST_CASE("kb calibrate's size table does not depend on threads or batch size", "[kb_cli][calibrate]") {
+TEST_CASE("kb calibrate's size table does not depend on threads or batch size", "[cli][kb][calibrate]") {
     test::TempDir dir;
     kbtest::make_run(dir / "run.db");
     const auto run = dir / "run.db";
@@ -120,13 +120,14 @@ TEST_CASE("kb calibrate's size table does not depend on threads or batch size", 
     }
     REQUIRE(behaviours.size() >= 4);  // so that a batch of 3 splits them
     for (const auto& b : behaviours)
-        segments.push_back(kb::segment_behaviour(b, static_cast<std::size_t>(sim::kChannels), kbtest::kRunWidth));
+        segments.push_back(
+            kb::segment_behaviour(b, static_cast<std::size_t>(sim::kChannels), kbtest::kRunWidth));
     kb::KbParams params;
     params.segment_width = kbtest::kRunWidth;
     const auto expected = kb::kb_sizes(params, segments, options.deltas);
 
-    for (const auto& [threads, batch] : {std::pair{1u, std::size_t{1}}, std::pair{2u, std::size_t{3}},
-                                         std::pair{4u, std::size_t{256}}}) {
+    for (const auto& [threads, batch] :
+         {std::pair{1u, std::size_t{1}}, std::pair{2u, std::size_t{3}}, std::pair{4u, std::size_t{256}}}) {
         options.threads = threads;
         options.batch = batch;
         const auto result = exp::calibrate_run(run, options);
@@ -141,7 +142,7 @@ TEST_CASE("kb calibrate's size table does not depend on threads or batch size", 
     CHECK_THROWS_AS(exp::calibrate_run(run, options), ConfigError);
 }
 
-TEST_CASE("kb calibrate --deltas none gives the delta alone", "[kb_cli][calibrate]") {
+TEST_CASE("kb calibrate --deltas none gives the delta alone", "[cli][kb][calibrate]") {
     test::TempDir dir;
     kbtest::make_run(dir / "run.db");
     const auto run = dir / "run.db";
