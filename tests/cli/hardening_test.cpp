@@ -63,9 +63,10 @@ void check_refused(const test::CliResult& result, int code, const std::string& n
 
 }  // namespace
 
-TEST_CASE("a second writer on a run file is refused at once, naming the first; Ctrl-C stops cleanly and says how "
-          "to resume; --resume without --config continues to the uninterrupted digest",
-          "[cli][harden][lock][interrupt]") {
+TEST_CASE(
+    "a second writer on a run file is refused at once, naming the first, Ctrl-C stops cleanly and says how "
+    "to resume, and --resume without --config continues to the uninterrupted digest",
+    "[cli][harden][lock][interrupt]") {
     test::TempDir dir;
     test::write_file(dir / "c.json", kSlowConfig);
     const auto run = dir / "run.db";

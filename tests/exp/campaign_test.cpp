@@ -109,7 +109,7 @@ void set_hand_signal(const std::filesystem::path& camp) {
 
 }  // namespace
 
-TEST_CASE("campaign runs every step; each run equals the same evolve run alone", "[exp][campaign][cli]") {
+TEST_CASE("campaign runs every step, and each run equals the same evolve run alone", "[exp][campaign][cli]") {
     test::TempDir dir;
     test::write_file(dir / "c.json", campaign_json(2));
     const auto result = campaign(dir, "camp", {"--jobs", "2"});
@@ -430,7 +430,7 @@ TEST_CASE("campaign --dry-run prints the plan and its cost without touching the 
     CHECK(std::distance(std::filesystem::directory_iterator(dir.path()), std::filesystem::directory_iterator()) == 1);
 }
 
-TEST_CASE("every example campaign parses; the demo's KB fixture loads with rewards spread over a range",
+TEST_CASE("every example campaign parses, and the demo's KB fixture loads with rewards spread over a range",
           "[exp][campaign][examples]") {
     const std::filesystem::path examples = std::filesystem::path(STEPSTONE_SOURCE_DIR) / "examples";
     int parsed = 0;

@@ -192,7 +192,7 @@ TEST_CASE("each treatment selects on its own objectives", "[exp][treatment]") {
     }
 }
 
-TEST_CASE("treatment names parse and print; an unknown one is refused", "[exp][treatment]") {
+TEST_CASE("treatment names parse and print, and an unknown one is refused", "[exp][treatment]") {
     for (auto t : runs::all_treatments()) CHECK(runs::parse_treatment(std::string(runs::to_string(t))) == t);
     CHECK(runs::all_treatments().size() == 5);
     CHECK_THROWS_WITH(runs::parse_treatment("summ", "--treatment"),
@@ -264,7 +264,8 @@ TEST_CASE("evolve mo: r_max is the third objective and fitness stays the reward"
     CHECK(objectives == "3");
 }
 
-TEST_CASE("evolve none: no KB, no shaping; with a KB, r_max recorded but not used", "[exp][treatment][cli]") {
+TEST_CASE("evolve none: no KB, no shaping, and with a KB r_max is recorded but not used",
+          "[exp][treatment][cli]") {
     test::TempDir dir;
     test::write_file(dir / "t.json", kTarget);
     write_kb(dir / "kb.db", two_segment_kb(0.2, 0.8));
