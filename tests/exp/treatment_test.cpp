@@ -1,23 +1,17 @@
-// The five treatments: the sum objective's ranking guarantee, the objectives
-// each treatment selects on, and evolve runs shaped by hand-made KBs whose
-// r_max is known without running the code under test.
-#include "runs/treatment.hpp"
-
+// The treatments as evolve applies them: runs shaped by hand-made KBs whose
+// r_max is known without running the code under test. The treatments' own
+// rules (names, objectives, the sum bonus) are tested in tests/runs.
 #include <catch2/catch.hpp>
 #include <cmath>
-#include <random>
 #include <set>
 
-#include "core/error.hpp"
 #include "core/rng.hpp"
 #include "db/database.hpp"
 #include "db/digest.hpp"
 #include "db/kb_store.hpp"
-#include "runs/replay.hpp"
-#include "runs/run_status.hpp"
-#include "runs/run_store.hpp"
 #include "kb/knowledge_base.hpp"
 #include "kb/oracle.hpp"
+#include "runs/replay.hpp"
 #include "sim/episode.hpp"
 #include "sim/sensors.hpp"
 #include "support/run_cli.hpp"
@@ -148,56 +142,6 @@ test::CliResult evolve(const test::TempDir& dir, const std::string& db, const st
 }
 
 }  // namespace
-
-TEST_CASE("sum fitness: n balls always rank below n + 1 balls whatever the shaping", "[exp][treatment]") {
-    std::mt19937_64 random(2024);
-    std::uniform_int_distribution<int> balls(0, 23);
-    std::uniform_real_distribution<double> unit(0.0, 1.0);
-    for (int trial = 0; trial < 200000; ++trial) {
-        const int n = balls(random);
-        const double max_average = 1e-3 + unit(random);
-        // the worst case for the guarantee: n balls with the largest r_max, n + 1 with none
-        const double high = (trial % 3 == 0) ? max_average : unit(random) * max_average;
-        const double low = (trial % 3 == 0) ? 0.0 : unit(random) * max_average;
-        const double with_n = runs::sum_fitness(n * kBall, high, max_average, kBall);
-        const double with_more = runs::sum_fitness((n + 1) * kBall, low, max_average, kBall);
-        REQUIRE(with_n < with_more);
-    }
-}
-
-TEST_CASE("sum fitness by hand: the normalised r_max times one ball less the margin", "[exp][treatment]") {
-    // 2 balls, r_max 0.3 of a KB whose best average is 0.6: 2/24 + 0.5 x (1/24) x (1 - 1/1024)
-    CHECK(runs::sum_fitness(2 * kBall, 0.3, 0.6, kBall) == Approx(2.0 / 24 + 0.5 / 24 * 1023.0 / 1024).epsilon(1e-15));
-    // r_max = 0 adds nothing; a KB whose averages are all 0 shapes nothing
-    CHECK(runs::sum_fitness(3 * kBall, 0.0, 0.6, kBall) == 3 * kBall);
-    CHECK(runs::sum_fitness(3 * kBall, 0.0, 0.0, kBall) == 3 * kBall);
-    // more r_max, more fitness at equal reward
-    CHECK(runs::sum_fitness(kBall, 0.2, 0.6, kBall) < runs::sum_fitness(kBall, 0.4, 0.6, kBall));
-}
-
-TEST_CASE("each treatment selects on its own objectives", "[exp][treatment]") {
-    using runs::Treatment;
-    const double r = 5 * kBall, d = 17.0, rmax = 0.25, top = 0.5;
-    CHECK(runs::treatment_objectives(Treatment::none, r, d, std::nullopt, 0, kBall) == std::vector<double>{r, d});
-    CHECK(runs::treatment_objectives(Treatment::none, r, d, rmax, top, kBall) == std::vector<double>{r, d});
-    const double shaped = r + 0.5 * kBall * (1.0 - 1.0 / 1024);
-    for (Treatment t : {Treatment::sum, Treatment::sum_rand}) {
-        const auto o = runs::treatment_objectives(t, r, d, rmax, top, kBall);
-        REQUIRE(o.size() == 2);
-        CHECK(o[0] == Approx(shaped).epsilon(1e-15));
-        CHECK(o[1] == d);
-    }
-    for (Treatment t : {Treatment::mo, Treatment::mo_rand}) {
-        CHECK(runs::treatment_objectives(t, r, d, rmax, top, kBall) == std::vector<double>{r, d, rmax});
-    }
-}
-
-TEST_CASE("treatment names parse and print, and an unknown one is refused", "[exp][treatment]") {
-    for (auto t : runs::all_treatments()) CHECK(runs::parse_treatment(std::string(runs::to_string(t))) == t);
-    CHECK(runs::all_treatments().size() == 5);
-    CHECK_THROWS_WITH(runs::parse_treatment("summ", "--treatment"),
-                      Contains("--treatment") && Contains("none, sum, mo, sum-rand, mo-rand") && Contains("summ"));
-}
 
 TEST_CASE("evolve sum: every fitness is reward + the hand-computed bonus", "[exp][treatment][cli]") {
     test::TempDir dir;
@@ -364,31 +308,4 @@ TEST_CASE("a shaped run resumes to the digest of an uninterrupted one and refuse
                                 {"--resume", "--generations", "6", "--kb", (dir / "other.db").string()});
     CHECK(refused.exit_code == 2);
     CHECK_THAT(refused.err, Contains("differs from the one the run was started with"));
-}
-
-TEST_CASE("run statuses and campaign steps are enums, converted at the database boundary", "[exp][status]") {
-    for (const auto status : {runs::RunStatus::pending, runs::RunStatus::running, runs::RunStatus::finished,
-                              runs::RunStatus::failed}) {
-        CHECK(runs::parse_run_status(runs::to_string(status), "status") == status);
-    }
-    CHECK(runs::to_string(runs::RunStatus::finished) == "finished");
-    CHECK(runs::to_string(runs::CampaignStep::source) == "source");
-    CHECK(runs::parse_campaign_step("target", "step") == runs::CampaignStep::target);
-    CHECK_THROWS_AS(runs::parse_campaign_step("Target", "step"), DatabaseError);
-
-    // a run file whose status is none of them is refused when read, naming the file and column
-    test::TempDir dir;
-    auto connection = db::open_database(dir / "run.db", db::OpenMode::create);
-    runs::RunRecord run;
-    run.task = "source";
-    run.config = nlohmann::json::object();
-    runs::insert_run(connection, run, "test");
-    CHECK(runs::load_run(connection).status == runs::RunStatus::running);
-    // the schema's CHECK refuses it too; a file written by other means may still hold it
-    connection.exec("PRAGMA ignore_check_constraints = ON; UPDATE run SET status = 'paused'");
-    CHECK_THROWS_AS(runs::load_run(connection), DatabaseError);
-    CHECK_THROWS_WITH(
-        runs::load_run(connection),
-        Catch::Matchers::Contains("run.status must be one of pending|running|finished|failed") &&
-            Catch::Matchers::Contains("\"paused\""));
 }
