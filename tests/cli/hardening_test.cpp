@@ -3,7 +3,6 @@
 // named as the user gave them, and usage errors instead of internal ones.
 
 #include <catch2/catch.hpp>
-
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
@@ -11,8 +10,8 @@
 
 #include "db/database.hpp"
 #include "db/digest.hpp"
-#include "kb_cli/fixtures.hpp"
 #include "support/db_files.hpp"
+#include "support/kb_fixtures.hpp"
 #include "support/run_cli.hpp"
 #include "support/temp_dir.hpp"
 
@@ -64,9 +63,10 @@ void check_refused(const test::CliResult& result, int code, const std::string& n
 
 }  // namespace
 
-TEST_CASE("a second writer on a run file is refused at once, naming the first; Ctrl-C stops cleanly and says how "
-          "to resume; --resume without --config continues to the uninterrupted digest",
-          "[cli][harden][lock][interrupt]") {
+TEST_CASE(
+    "a second writer on a run file is refused at once, naming the first, Ctrl-C stops cleanly and says how "
+    "to resume, and --resume without --config continues to the uninterrupted digest",
+    "[cli][harden][lock][interrupt]") {
     test::TempDir dir;
     test::write_file(dir / "c.json", kSlowConfig);
     const auto run = dir / "run.db";

@@ -7,8 +7,8 @@
 #include <filesystem>
 
 #include "db/database.hpp"
-#include "kb_cli/fixtures.hpp"
 #include "support/db_files.hpp"
+#include "support/kb_fixtures.hpp"
 #include "support/run_cli.hpp"
 #include "support/temp_dir.hpp"
 

@@ -30,7 +30,7 @@ reporttest::Rgb rgb(report::Colour c) {
 
 }  // namespace
 
-TEST_CASE("a run config's arena file is read relative to it and stored whole; the paper's adds no key",
+TEST_CASE("a run config's arena file is read relative to it and stored whole, and the paper's adds no key",
           "[report][arena]") {
     const auto config = runs::EvolveConfig::load(kArenas / "two_rooms_quick.json");
     const auto two_rooms = sim::ArenaSpec::load(kArenas / "two_rooms.json");

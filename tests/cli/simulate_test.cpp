@@ -1,20 +1,20 @@
 #include <catch2/catch.hpp>
-
 #include <filesystem>
 
 #include "support/run_cli.hpp"
 #include "support/temp_dir.hpp"
 
+using Catch::Matchers::Contains;
 using stepstone::test::run_cli;
 using stepstone::test::TempDir;
-using Catch::Matchers::Contains;
 
-TEST_CASE("simulate writes one CSV row per step and the same file on every run", "[sim][cli][determinism]") {
+TEST_CASE("simulate writes one CSV row per step and the same file on every run",
+          "[cli][simulate][determinism]") {
     const TempDir dir;
     const auto a = (dir / "a.csv").string();
     const auto b = (dir / "b.csv").string();
-    const std::vector<std::string> args{"simulate", "--task", "target", "--controller", "random", "--seed", "5",
-                                        "--steps", "50", "--starts", "2", "--csv"};
+    const std::vector<std::string> args{"simulate", "--task",  "target", "--controller", "random", "--seed",
+                                        "5",        "--steps", "50",     "--starts",     "2",      "--csv"};
     auto with = [&](const std::string& file) {
         auto v = args;
         v.push_back(file);
@@ -34,7 +34,7 @@ TEST_CASE("simulate writes one CSV row per step and the same file on every run",
     CHECK_FALSE(text.find("\n0,") != std::string::npos);
 }
 
-TEST_CASE("simulate refuses an existing file unless forced", "[sim][cli][errors]") {
+TEST_CASE("simulate refuses an existing file unless forced", "[cli][simulate][errors]") {
     const TempDir dir;
     const auto file = dir / "out.csv";
     stepstone::test::write_file(file, "keep me\n");
@@ -43,11 +43,12 @@ TEST_CASE("simulate refuses an existing file unless forced", "[sim][cli][errors]
     REQUIRE(run.err_lines().size() == 1);
     CHECK_THAT(run.err, Contains("out.csv") && Contains("--force"));
     CHECK(stepstone::test::read_file(file) == "keep me\n");
-    CHECK(run_cli({"simulate", "--steps", "10", "--starts", "1", "--csv", file.string(), "--force"}).exit_code == 0);
+    CHECK(run_cli({"simulate", "--steps", "10", "--starts", "1", "--csv", file.string(), "--force"})
+              .exit_code == 0);
     CHECK(stepstone::test::read_file(file) != "keep me\n");
 }
 
-TEST_CASE("simulate rejects bad flag values with one line naming the flag", "[sim][cli][errors]") {
+TEST_CASE("simulate rejects bad flag values with one line naming the flag", "[cli][simulate][errors]") {
     const TempDir dir;
     const auto file = (dir / "x.csv").string();
     for (const auto& [flag, value] : std::vector<std::pair<std::string, std::string>>{

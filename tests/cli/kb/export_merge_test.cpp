@@ -5,7 +5,7 @@
 
 #include "db/database.hpp"
 #include "db/kb_store.hpp"
-#include "kb_cli/fixtures.hpp"
+#include "support/kb_fixtures.hpp"
 #include "support/run_cli.hpp"
 #include "support/temp_dir.hpp"
 
@@ -60,7 +60,7 @@ Coarsened coarsen_by_hand(const kb::KnowledgeBase& fine, double delta) {
 
 }  // namespace
 
-TEST_CASE("kb export writes the run's knowledge base unchanged under the same name", "[kb_cli][export]") {
+TEST_CASE("kb export writes the run's knowledge base unchanged under the same name", "[cli][kb][export]") {
     test::TempDir dir;
     kbtest::make_run(dir / "run.db");
     auto result =
@@ -107,7 +107,7 @@ TEST_CASE("kb export writes the run's knowledge base unchanged under the same na
 }
 
 TEST_CASE("kb merge adds counts and cumulated rewards of segments within delta and keeps provenance",
-          "[kb_cli][merge]") {
+          "[cli][kb][merge]") {
     test::TempDir dir;
     kbtest::write_kb(dir / "a.db", "a", kbtest::point_kb("run-a", policies_a()));
     kbtest::write_kb(dir / "b.db", "b", kbtest::point_kb("run-b", policies_b()));
@@ -146,7 +146,7 @@ TEST_CASE("kb merge adds counts and cumulated rewards of segments within delta a
     CHECK(db::list_kbs(named).at(0).name == "both");
 }
 
-TEST_CASE("kb merge is deterministic in the given order", "[kb_cli][merge][determinism]") {
+TEST_CASE("kb merge is deterministic in the given order", "[cli][kb][merge][determinism]") {
     test::TempDir dir;
     kbtest::write_kb(dir / "a.db", "a", kbtest::point_kb("run-a", policies_a()));
     kbtest::write_kb(dir / "b.db", "b", kbtest::point_kb("run-b", policies_b()));
@@ -170,7 +170,7 @@ TEST_CASE("kb merge is deterministic in the given order", "[kb_cli][merge][deter
 }
 
 TEST_CASE("kb merge refuses KBs of another delta or channel count, naming both files, and writes nothing",
-          "[kb_cli][merge][errors]") {
+          "[cli][kb][merge][errors]") {
     test::TempDir dir;
     kbtest::write_kb(dir / "a.db", "a", kbtest::point_kb("run-a", policies_a()));
     kbtest::write_kb(dir / "wide.db", "w", kbtest::point_kb("run-w", policies_b(), 0.7));
@@ -193,7 +193,8 @@ TEST_CASE("kb merge refuses KBs of another delta or channel count, naming both f
     CHECK(kbtest::files_in(dir.path()) == before);  // no output, no temporary file
 }
 
-TEST_CASE("kb export --delta writes the run's KB coarsened under the larger delta", "[kb_cli][export][coarsen]") {
+TEST_CASE("kb export --delta writes the run's KB coarsened under the larger delta",
+          "[cli][kb][export][coarsen]") {
     test::TempDir dir;
     kbtest::make_run(dir / "run.db");
     {

@@ -4,9 +4,9 @@
 #include "db/database.hpp"
 #include "db/kb_store.hpp"
 #include "evo/pareto.hpp"
-#include "kb_cli/fixtures.hpp"
 #include "runs/replay.hpp"
 #include "sim/sensors.hpp"
+#include "support/kb_fixtures.hpp"
 #include "support/run_cli.hpp"
 #include "support/temp_dir.hpp"
 
@@ -64,7 +64,7 @@ void check_rows(const std::vector<Row>& rows, std::size_t& at, std::int64_t id, 
 }  // namespace
 
 TEST_CASE("kb annotate all fills policy_segment as KnowledgeBase::lookup on the replayed behaviours",
-          "[kb_cli][annotate]") {
+          "[cli][kb][annotate]") {
     test::TempDir dir;
     kbtest::make_run(dir / "run.db", /*retain_all=*/true);
     const auto run = dir / "run.db";
@@ -117,7 +117,7 @@ TEST_CASE("kb annotate all fills policy_segment as KnowledgeBase::lookup on the 
 }
 
 TEST_CASE("kb annotate front takes the first front of the last population, best the best stored genome",
-          "[kb_cli][annotate]") {
+          "[cli][kb][annotate]") {
     test::TempDir dir;
     kbtest::make_run(dir / "run.db");
     const auto run = dir / "run.db";
@@ -167,7 +167,7 @@ TEST_CASE("kb annotate front takes the first front of the last population, best 
 }
 
 TEST_CASE("shape prints the r_max and matches that KnowledgeBase::lookup gives for the stored policy",
-          "[kb_cli][shape]") {
+          "[cli][kb][shape]") {
     test::TempDir dir;
     kbtest::make_run(dir / "run.db");
     const auto run = dir / "run.db";

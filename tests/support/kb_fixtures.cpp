@@ -1,4 +1,4 @@
-#include "kb_cli/fixtures.hpp"
+#include "support/kb_fixtures.hpp"
 
 #include <algorithm>
 #include <stdexcept>

@@ -6,9 +6,9 @@
 
 #include "db/database.hpp"
 #include "db/kb_store.hpp"
-#include "kb_cli/fixtures.hpp"
 #include "runs/replay.hpp"
 #include "sim/sensors.hpp"
+#include "support/kb_fixtures.hpp"
 #include "support/run_cli.hpp"
 #include "support/temp_dir.hpp"
 
@@ -90,7 +90,7 @@ struct AnnotatedRun {
 }  // namespace
 
 TEST_CASE("salient_segments.sql lists the highest averages among segments seen often enough",
-          "[kb_cli][queries]") {
+          "[cli][kb][queries]") {
     test::TempDir dir;
     kbtest::write_kb(dir / "h.db", "hand", kbtest::histogram_kb());
     auto connection = db::open_database(dir / "h.db", db::OpenMode::read_only);
@@ -119,7 +119,7 @@ TEST_CASE("salient_segments.sql lists the highest averages among segments seen o
 }
 
 TEST_CASE("kb_growth.sql counts the segments each generation inserted and the running size",
-          "[kb_cli][queries]") {
+          "[cli][kb][queries]") {
     test::TempDir dir;
     kbtest::write_kb(dir / "h.db", "hand", kbtest::histogram_kb());
     auto connection = db::open_database(dir / "h.db", db::OpenMode::read_only);
@@ -147,7 +147,7 @@ TEST_CASE("kb_growth.sql counts the segments each generation inserted and the ru
 }
 
 TEST_CASE("kb_provenance.sql lists each source with the segments it inserted and last credited",
-          "[kb_cli][queries]") {
+          "[cli][kb][queries]") {
     test::TempDir dir;
     kbtest::write_kb(dir / "h.db", "hand", kbtest::histogram_kb(), 11);
     auto connection = db::open_database(dir / "h.db", db::OpenMode::read_only);
@@ -167,7 +167,7 @@ TEST_CASE("kb_provenance.sql lists each source with the segments it inserted and
 }
 
 TEST_CASE("policy_saliency.sql and salient_positions.sql give the annotated policy's saliency along time",
-          "[kb_cli][queries]") {
+          "[cli][kb][queries]") {
     AnnotatedRun annotated;
     const auto lookup = annotated.lookup();
     auto connection = db::open_database(annotated.run, db::OpenMode::read_only);
@@ -203,7 +203,7 @@ TEST_CASE("policy_saliency.sql and salient_positions.sql give the annotated poli
     }
 }
 
-TEST_CASE("salient_positions.sql joins with the replay CSV as its header describes", "[kb_cli][queries]") {
+TEST_CASE("salient_positions.sql joins with the replay CSV as its header describes", "[cli][kb][queries]") {
     AnnotatedRun annotated;
     const auto csv = annotated.dir / "steps.csv";
     REQUIRE(test::run_cli({"replay", annotated.run.string(), "--individual", std::to_string(annotated.best),

@@ -1,5 +1,6 @@
 // CampaignConfig parsing and plan_runs, in process: the expectations come from
-// docs/transfer.md's table of keys and its plan (seed-major target runs).
+// docs/transfer.md's table of keys and its plan (seed-major target runs), and
+// the example campaigns' designs from docs/results.md.
 #include "runs/campaign_config.hpp"
 
 #include <catch2/catch.hpp>
@@ -35,7 +36,8 @@ std::string error_of(const std::string& text) {
 
 }  // namespace
 
-TEST_CASE("campaign config: runs N with first_seed S gives seeds S to S + N - 1", "[exp][campaign][config]") {
+TEST_CASE("campaign config: runs N with first_seed S gives seeds S to S + N - 1",
+          "[runs][campaign][config]") {
     const auto config = from(target(R"("runs": 3, "first_seed": 5, "treatments": ["none"])"));
     CHECK(config.target.seeds == std::vector<std::uint64_t>{5, 6, 7});
     CHECK_FALSE(config.source.has_value());
@@ -45,7 +47,7 @@ TEST_CASE("campaign config: runs N with first_seed S gives seeds S to S + N - 1"
 }
 
 TEST_CASE("campaign config: the default treatments are all five in the paper's order",
-          "[exp][campaign][config]") {
+          "[runs][campaign][config]") {
     test::TempDir dir;
     test::write_file(dir / "kb.db", "");  // kb.file must exist; it is not read by the parse
     const auto config = runs::CampaignConfig::from_json(
@@ -68,7 +70,7 @@ TEST_CASE("campaign config: the default treatments are all five in the paper's o
 }
 
 TEST_CASE("campaign config: bad keys and values are refused naming the key",
-          "[exp][campaign][config][errors]") {
+          "[runs][campaign][config][errors]") {
     CHECK_THAT(error_of(target(R"("seeds": [1], "runs": 2)")),
                Contains("c.json") && Contains("target.seeds"));
     CHECK_THAT(error_of(target(R"("seeds": [1, 1], "treatments": ["none"])")), Contains("repeats a seed"));
@@ -83,7 +85,7 @@ TEST_CASE("campaign config: bad keys and values are refused naming the key",
 }
 
 TEST_CASE("campaign plan: source runs by seed, then target runs seed-major in config order",
-          "[exp][campaign][config]") {
+          "[runs][campaign][config]") {
     const auto config =
         from(std::string(R"({"source": {"config": {)") + kTask +
              R"(, "kb": {"segment_width": 20, "delta": 1.0}}, "seeds": [4, 2], "generations": 3},
@@ -109,4 +111,30 @@ TEST_CASE("campaign plan: source runs by seed, then target runs seed-major in co
         runs::CampaignConfig::from_json(config.to_json(), "stored", std::filesystem::current_path());
     CHECK(again.to_json() == config.to_json());
     CHECK(runs::plan_runs(again).size() == plan.size());
+}
+
+TEST_CASE("every example campaign parses, and the replication one and the quick one carry their design",
+          "[runs][campaign][config][examples]") {
+    const std::filesystem::path examples = std::filesystem::path(STEPSTONE_SOURCE_DIR) / "examples";
+    int parsed = 0;
+    for (const auto& entry : std::filesystem::directory_iterator(examples)) {
+        const auto name = entry.path().filename().string();
+        if (name.rfind("campaign_", 0) != 0 || entry.path().extension() != ".json") continue;
+        INFO(name);
+        CHECK_NOTHROW(runs::CampaignConfig::load(entry.path()));
+        ++parsed;
+    }
+    CHECK(parsed >= 3);
+    const auto replication = runs::CampaignConfig::load(examples / "campaign_replication.json");
+    REQUIRE(replication.source);
+    CHECK(replication.source->config.ea.population_size == 200);  // the paper's source run
+    CHECK(replication.source->generations == 4000);
+    CHECK(replication.treatments.size() == 5);
+    CHECK(replication.target.config.task.starts == 3);
+
+    // the quick campaign's KB is the shipped fixture (tests/exp/campaign/campaign_kb_test.cpp loads it)
+    const auto quick = runs::CampaignConfig::load(examples / "campaign_quick.json");
+    REQUIRE(quick.kb_from == runs::KbFrom::file);
+    CHECK(quick.kb_file.extension() == ".gz");
+    CHECK(std::filesystem::file_size(quick.kb_file) < (1u << 20));  // committed: under 1 MiB
 }

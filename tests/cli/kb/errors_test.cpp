@@ -1,8 +1,8 @@
 #include <catch2/catch.hpp>
 
 #include "db/database.hpp"
-#include "kb_cli/fixtures.hpp"
 #include "support/db_files.hpp"
+#include "support/kb_fixtures.hpp"
 #include "support/run_cli.hpp"
 #include "support/temp_dir.hpp"
 
@@ -23,7 +23,7 @@ void check_error(const test::CliResult& result, int exit_code, const std::string
 
 }  // namespace
 
-TEST_CASE("every kb subcommand and shape show an example in --help", "[kb_cli][help]") {
+TEST_CASE("every kb subcommand and shape show an example in --help", "[cli][kb][help]") {
     for (const auto& args : std::vector<std::vector<std::string>>{{"kb", "--help"},
                                                                   {"kb", "export", "--help"},
                                                                   {"kb", "merge", "--help"},
@@ -41,7 +41,7 @@ TEST_CASE("every kb subcommand and shape show an example in --help", "[kb_cli][h
 }
 
 TEST_CASE("kb commands refuse missing, newer-schema and foreign files with one line and exit 1",
-          "[kb_cli][errors]") {
+          "[cli][kb][errors]") {
     test::TempDir dir;
     test::make_newer_stepstone(dir / "newer.db");
     test::make_foreign_sqlite(dir / "foreign.db");
@@ -66,7 +66,7 @@ TEST_CASE("kb commands refuse missing, newer-schema and foreign files with one l
     CHECK(kbtest::files_in(dir.path()) == before);
 }
 
-TEST_CASE("a KB file with a NaN value or an infinite reward is refused with one line", "[kb_cli][errors]") {
+TEST_CASE("a KB file with a NaN value or an infinite reward is refused with one line", "[cli][kb][errors]") {
     test::TempDir dir;
     kbtest::write_kb(dir / "nan.db", "a", kbtest::point_kb("run-a", {{0, 0, 1, 0}, {3, 3, 1, 0}}));
     {
@@ -91,7 +91,7 @@ TEST_CASE("a KB file with a NaN value or an infinite reward is refused with one 
 }
 
 TEST_CASE("annotate and shape refuse a KB of other channels and leave the run file unchanged",
-          "[kb_cli][errors]") {
+          "[cli][kb][errors]") {
     test::TempDir dir;
     kbtest::make_run(dir / "run.db");
     kbtest::write_kb(dir / "two.db", "two", kbtest::point_kb("run-a", {{0, 0, 1, 0}}));  // 2 channels
@@ -124,7 +124,8 @@ TEST_CASE("annotate and shape refuse a KB of other channels and leave the run fi
     CHECK_THAT(renamed.out, Contains("\"control\", copied into the run file"));
 }
 
-TEST_CASE("an existing output is refused without --force and replaced with it", "[kb_cli][errors]") {
+TEST_CASE("kb merge, randomize and export refuse an existing output without --force and replace it with it",
+          "[cli][kb][errors]") {
     test::TempDir dir;
     kbtest::write_kb(dir / "a.db", "a", kbtest::point_kb("run-a", {{0, 0, 1, 0}}));
     kbtest::write_kb(dir / "b.db", "b", kbtest::point_kb("run-b", {{5, 5, 1, 0}}));
@@ -143,7 +144,7 @@ TEST_CASE("an existing output is refused without --force and replaced with it", 
     CHECK(kbtest::load_kb(dir / "taken.db").size() == 1);
 }
 
-TEST_CASE("bad flag values are usage errors with exit 2", "[kb_cli][errors]") {
+TEST_CASE("bad flag values of the kb commands and shape are usage errors with exit 2", "[cli][kb][errors]") {
     test::TempDir dir;
     kbtest::write_kb(dir / "a.db", "a", kbtest::point_kb("run-a", {{0, 0, 1, 0}}));
     const auto a = (dir / "a.db").string();

@@ -3,7 +3,7 @@
 
 #include "db/database.hpp"
 #include "db/kb_store.hpp"
-#include "kb_cli/fixtures.hpp"
+#include "support/kb_fixtures.hpp"
 #include "support/run_cli.hpp"
 #include "support/temp_dir.hpp"
 
@@ -11,7 +11,7 @@ using namespace stepstone;
 using Catch::Matchers::Contains;
 
 TEST_CASE("kb randomize keeps the segments, draws averages below 1 reproducibly and records the seed",
-          "[kb_cli][randomize]") {
+          "[cli][kb][randomize]") {
     test::TempDir dir;
     kbtest::make_run(dir / "run.db");
     const auto run = (dir / "run.db").string();
@@ -49,7 +49,7 @@ TEST_CASE("kb randomize keeps the segments, draws averages below 1 reproducibly 
     CHECK(kbtest::segment_rows(dir / "r1.db") != kbtest::segment_rows(dir / "r8.db"));
 }
 
-TEST_CASE("kb stats reports size, histogram, counts and provenance of a hand-made KB", "[kb_cli][stats]") {
+TEST_CASE("kb stats reports size, histogram, counts and provenance of a hand-made KB", "[cli][kb][stats]") {
     test::TempDir dir;
     kbtest::write_kb(dir / "h.db", "hand", kbtest::histogram_kb(), 11);
     auto result = test::run_cli({"kb", "stats", (dir / "h.db").string(), "--json"});
@@ -101,7 +101,7 @@ TEST_CASE("kb stats reports size, histogram, counts and provenance of a hand-mad
 }
 
 TEST_CASE("a KB exported from a source run takes at most 800 bytes a segment in its file",
-          "[kb_cli][stats]") {
+          "[cli][kb][stats]") {
     // the paper's channels (15, 9 of them binary) and width (20); 1 start of 400 steps, 16 policies
     // a generation for 12 generations: some 900 segments, so that the file's fixed pages weigh little
     test::TempDir dir;

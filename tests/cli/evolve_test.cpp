@@ -32,14 +32,15 @@ int generations_done(const std::filesystem::path& path) {
 
 }  // namespace
 
-TEST_CASE("evolve killed with SIGKILL mid-run resumes to the digest of an uninterrupted run", "[exp][cli][resume][slow]") {
+TEST_CASE("evolve killed with SIGKILL mid-run resumes to the digest of an uninterrupted run",
+          "[cli][evolve][resume][slow]") {
     test::TempDir dir;
     test::write_file(dir / "c.json", kConfig);
     const auto killed = dir / "killed.db";
 
     // wait until a few generations are committed, then kill without warning
-    test::run_cli_killed_when({"evolve", "--config", (dir / "c.json").string(), "--db", killed.string(), "--threads",
-                               "2", "--quiet"},
+    test::run_cli_killed_when({"evolve", "--config", (dir / "c.json").string(), "--db", killed.string(),
+                               "--threads", "2", "--quiet"},
                               [&] { return generations_done(killed) >= 3; });
     const int done_at_kill = generations_done(killed);
     INFO("generations committed when killed: " << done_at_kill);
@@ -49,8 +50,8 @@ TEST_CASE("evolve killed with SIGKILL mid-run resumes to the digest of an uninte
     auto resumed = test::run_cli({"evolve", "--config", (dir / "c.json").string(), "--db", killed.string(),
                                   "--resume", "--threads", "1", "--quiet"});
     REQUIRE(resumed.exit_code == 0);
-    auto full = test::run_cli({"evolve", "--config", (dir / "c.json").string(), "--db", (dir / "full.db").string(),
-                               "--threads", "2", "--quiet"});
+    auto full = test::run_cli({"evolve", "--config", (dir / "c.json").string(), "--db",
+                               (dir / "full.db").string(), "--threads", "2", "--quiet"});
     REQUIRE(full.exit_code == 0);
     CHECK(test::file_digest(killed) == test::file_digest(dir / "full.db"));
 
@@ -58,7 +59,8 @@ TEST_CASE("evolve killed with SIGKILL mid-run resumes to the digest of an uninte
     CHECK(digest_cli.exit_code == 0);
     CHECK(digest_cli.out == test::file_digest(killed) + "\n");
 
-    auto replay = test::run_cli({"replay", killed.string(), "--individual", "best", "--csv", (dir / "best.csv").string()});
+    auto replay = test::run_cli(
+        {"replay", killed.string(), "--individual", "best", "--csv", (dir / "best.csv").string()});
     CHECK(replay.exit_code == 0);
     CHECK_THAT(replay.out, Contains("stored_reward"));
     // one CSV row per step run, after the header
@@ -74,10 +76,11 @@ TEST_CASE("evolve killed with SIGKILL mid-run resumes to the digest of an uninte
     CHECK(test::read_file(dir / "best.csv") == csv);
 }
 
-TEST_CASE("evolve usage and config errors exit 2 with one line and no file", "[exp][cli][errors]") {
+TEST_CASE("evolve usage and config errors exit 2 with one line and no file", "[cli][evolve][errors]") {
     test::TempDir dir;
     test::write_file(dir / "bad.json", R"({"ea": {"population_size": 6}})");
-    auto result = test::run_cli({"evolve", "--config", (dir / "bad.json").string(), "--db", (dir / "r.db").string()});
+    auto result =
+        test::run_cli({"evolve", "--config", (dir / "bad.json").string(), "--db", (dir / "r.db").string()});
     CHECK(result.exit_code == 2);
     REQUIRE(result.err_lines().size() == 1);
     CHECK_THAT(result.err, Contains("bad.json: ea.population_size must be a multiple of 4, got 6"));

@@ -1,0 +1,56 @@
+#include "support/campaigns.hpp"
+
+#include "db/database.hpp"
+
+namespace stepstone::test {
+
+std::string tiny_campaign_json(int target_generations, int steps) {
+    return R"({
+  "source": {
+    "config": {
+      "task": {"kind": "source", "steps_per_start": 200, "starts": 1},
+      "ea": {"population_size": 8},
+      "kb": {"segment_width": 20, "delta": 1.83, "period": 1}
+    },
+    "seeds": [4],
+    "generations": 3
+  },
+  "kb": {"from": "best"},
+  "randomize_seed": 9,
+  "target": {
+    "config": {"task": {"kind": "target", "steps_per_start": )" +
+           std::to_string(steps) + R"(, "starts": 1}, "ea": {"population_size": 8}},
+    "runs": 2,
+    "generations": )" +
+           std::to_string(target_generations) + R"(
+  }
+})";
+}
+
+CliResult run_campaign(const TempDir& dir, const std::string& name, const std::vector<std::string>& extra) {
+    std::vector<std::string> args{"campaign", (dir / "c.json").string(), "--dir", (dir / name).string(),
+                                  "--quiet"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    return run_cli(args);
+}
+
+std::map<std::int64_t, std::string> finished_digests(const std::filesystem::path& dir) {
+    auto connection = db::open_database(dir / "campaign.db", db::OpenMode::read_only);
+    auto rows =
+        connection.prepare("SELECT id, digest FROM campaign_run WHERE status = 'finished' ORDER BY id");
+    std::map<std::int64_t, std::string> out;
+    while (rows.step()) out[rows.column_int(0)] = rows.column_text(1);
+    return out;
+}
+
+std::int64_t finished_runs(const std::filesystem::path& dir) {
+    try {
+        auto connection = db::open_database(dir / "campaign.db", db::OpenMode::read_only);
+        return connection.query_int("SELECT count(*) FROM campaign_run WHERE status = 'finished'")
+            .value_or(0);
+    } catch (const std::exception&) {
+        return 0;
+    }
+}
+
+}  // namespace stepstone::test

@@ -1,0 +1,33 @@
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "support/run_cli.hpp"
+#include "support/temp_dir.hpp"
+
+namespace stepstone::test {
+
+// A tiny campaign for the tests of the campaign engine (tests/exp/campaign)
+// and of its statistics (tests/runs/campaign_stats_test.cpp).
+
+/// The config of a tiny campaign: one source run (seed 4, 3 generations,
+/// population 8, one 200-step start, a KB of width 20 and delta 1.83 observed
+/// every generation), the KB of the best source run and its randomized twin
+/// (seed 9), then the five treatments x 2 seeds of `target_generations`
+/// generations of one `steps`-step start (population 8): 11 runs.
+std::string tiny_campaign_json(int target_generations, int steps = 200);
+
+/// `stepstone campaign dir/c.json --dir dir/name --quiet` followed by `extra`.
+CliResult run_campaign(const TempDir& dir, const std::string& name, const std::vector<std::string>& extra);
+
+/// campaign_run.id -> digest of the runs that campaign.db of `dir` records finished.
+std::map<std::int64_t, std::string> finished_digests(const std::filesystem::path& dir);
+
+/// How many runs campaign.db of `dir` records finished (0 while it cannot be read).
+std::int64_t finished_runs(const std::filesystem::path& dir);
+
+}  // namespace stepstone::test
