@@ -49,8 +49,8 @@ TEST_CASE("campaign.db lists the planned runs in plan order, pending, and keeps 
     }
 
     // the second run (campaign_run.id 2) finishes, the third fails
-    auto states = runs::run_states(index);
-    REQUIRE(states.size() == 3);
+    auto states = index.runs;
+    CHECK((states[0].id == 1 && states[1].id == 2 && states[2].id == 3));
     {
         auto connection = db::open_database(dir / "campaign.db", db::OpenMode::read_write);
         states[1].status = runs::RunStatus::finished;
@@ -64,6 +64,12 @@ TEST_CASE("campaign.db lists the planned runs in plan order, pending, and keeps 
     CHECK(index.runs[0].status == runs::RunStatus::pending);
     CHECK(index.runs[1].status == runs::RunStatus::finished);
     CHECK(index.runs[2].status == runs::RunStatus::failed);
+    // the one model reads back what was written: progress, reward, digest, time and error
+    CHECK((index.runs[1].generations_done == 3 && index.runs[1].best_reward == 0.5 &&
+           index.runs[1].digest == "d1g3st" && index.runs[1].wall_time == 1.5 && index.runs[1].error.empty()));
+    CHECK((index.runs[2].error == "evolve: no space left" && index.runs[2].digest.empty() &&
+           !index.runs[2].best_reward && index.runs[2].wall_time == 0.25));
+    CHECK((index.runs[0].generations_done == -1 && !index.runs[0].best_reward));
     auto connection = db::open_database(dir / "campaign.db", db::OpenMode::read_only);
     auto row = connection.prepare(
         "SELECT generations_done, best_reward, digest, wall_time FROM campaign_run WHERE file = "
