@@ -32,7 +32,7 @@ TEST_CASE("a campaign with kb.delta uses the best source run's KB coarsened to t
     // tests/kb/oracle.hpp (its segments observed in id order under delta 4, carrying their
     // statistics, as docs/knowledge_base.md describes), not by the library's coarsened().
     // This tiny source run scores nothing, so every cum_reward is 0 and the counts carry the
-    // check; kb_cli's kb export --delta test gives the same coarsening rewards that differ
+    // check; tests/cli/kb's kb export --delta test gives the same coarsening rewards that differ
     auto source = db::open_database(camp / "source" / "seed-4.db", db::OpenMode::read_only);
     const auto fine = db::load_kb(source, "run").kb;
     ::kbtest::OracleKb expected;
