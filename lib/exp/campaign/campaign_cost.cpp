@@ -312,9 +312,8 @@ void write_plan(std::ostream& out, const runs::CampaignConfig& config, const Cam
            "still\n"
            "         do not reach, and lookups timed on random policies' behaviours)\n";
     if (unknown) {
-        out << "         * the KB is made by the source step: run the dry run again on the campaign's "
-               "folder\n"
-               "           (--dir) once it holds kb/kb.db, or give kb.file, to time the lookups\n";
+        out << "         * the KB is made by the source step: a dry run on the campaign's folder once it\n"
+               "           holds kb/kb.db, or a config with kb.file, times the lookups\n";
     }
 }
 
