@@ -39,3 +39,19 @@ TEST_CASE("exact prints 17 significant digits, which read back bit for bit", "[c
     CHECK(exact(1e-300) == "1e-300");
     for (const double v : {0.1, 2.0 / 3.0, 1e300, -123.456}) CHECK(std::stod(exact(v)) == v);
 }
+
+TEST_CASE("options named in a message are spelled by the front end, other backquotes kept", "[core]") {
+    CHECK(option_name("token_file") == "`token_file`");
+    const auto flags = [](std::string_view name) { return "--" + std::string(name); };
+    CHECK(spell_options("run.db: already exists; continue it with `resume` (or replace it with `force`)",
+                        flags) ==
+          "run.db: already exists; continue it with --resume (or replace it with --force)");
+    CHECK(spell_options("`start` must be within 1 to 3, got 5", flags) ==
+          "--start must be within 1 to 3, got 5");
+    // not option names: capitals, spaces, a leading digit or underscore, an empty pair, one lone mark
+    CHECK(spell_options("query `SELECT 1` failed", flags) == "query `SELECT 1` failed");
+    CHECK(spell_options("`2x` and `_a` and `` stay", flags) == "`2x` and `_a` and `` stay");
+    CHECK(spell_options("a lone ` mark and `kb_name`", flags) == "a lone ` mark and --kb_name");
+    CHECK(spell_options("no marks at all", flags) == "no marks at all");
+    CHECK(spell_options("`unclosed", flags) == "`unclosed");
+}
