@@ -13,6 +13,7 @@
 #include "db/digest.hpp"
 #include "db/kb_store.hpp"
 #include "exp/shaped_runs.hpp"
+#include "exp/tiny_run.hpp"
 #include "kb/oracle.hpp"
 #include "runs/replay.hpp"
 #include "sim/sensors.hpp"
@@ -24,34 +25,11 @@ using namespace stepstone;
 using exptest::evolve;
 using exptest::kBall;
 using exptest::kTarget;
+using exptest::kTinyConfig;
+using exptest::options_for;
 using exptest::two_segment_kb;
+using exptest::write_config;
 using exptest::write_kb;
-
-namespace {
-
-// a tiny run: 8 individuals, one short start; fast enough for many runs per test
-const char* kTinyConfig = R"({
-  "task": {"kind": "source", "steps_per_start": 300, "starts": 1},
-  "ea": {"population_size": 8, "generations": 6},
-  "dnn": {"add_connection_rate": 0.5, "add_neuron_rate": 0.3},
-  "seed": 11
-})";
-
-std::filesystem::path write_config(const test::TempDir& dir, const std::string& text, const char* name = "c.json") {
-    test::write_file(dir / name, text);
-    return dir / name;
-}
-
-exp::EvolveOptions options_for(const test::TempDir& dir, const std::string& db, unsigned threads) {
-    exp::EvolveOptions options;
-    options.config_path = dir / "c.json";
-    options.db_path = dir / db;
-    options.threads = threads;
-    options.progress = ProgressMode::quiet;
-    return options;
-}
-
-}  // namespace
 
 TEST_CASE("a run is identical with 1, 2 and 4 threads", "[exp][determinism]") {
     test::TempDir dir;

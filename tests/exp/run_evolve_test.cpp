@@ -8,6 +8,7 @@
 #include "db/digest.hpp"
 #include "exp/evolution.hpp"
 #include "exp/shaped_runs.hpp"
+#include "exp/tiny_run.hpp"
 #include "support/db_files.hpp"
 #include "support/run_cli.hpp"
 #include "support/temp_dir.hpp"
@@ -16,35 +17,11 @@ using namespace stepstone;
 using Catch::Matchers::Contains;
 using exptest::evolve;
 using exptest::kTarget;
+using exptest::kTinyConfig;
+using exptest::options_for;
 using exptest::two_segment_kb;
+using exptest::write_config;
 using exptest::write_kb;
-
-namespace {
-
-// a tiny run: 8 individuals, one short start; fast enough for many runs per test
-const char* kTinyConfig = R"({
-  "task": {"kind": "source", "steps_per_start": 300, "starts": 1},
-  "ea": {"population_size": 8, "generations": 6},
-  "dnn": {"add_connection_rate": 0.5, "add_neuron_rate": 0.3},
-  "seed": 11
-})";
-
-std::filesystem::path write_config(const test::TempDir& dir, const std::string& text,
-                                   const char* name = "c.json") {
-    test::write_file(dir / name, text);
-    return dir / name;
-}
-
-exp::EvolveOptions options_for(const test::TempDir& dir, const std::string& db, unsigned threads) {
-    exp::EvolveOptions options;
-    options.config_path = dir / "c.json";
-    options.db_path = dir / db;
-    options.threads = threads;
-    options.progress = ProgressMode::quiet;
-    return options;
-}
-
-}  // namespace
 
 TEST_CASE("a bad config is refused before any file is written", "[exp][errors]") {
     test::TempDir dir;

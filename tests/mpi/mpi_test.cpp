@@ -13,6 +13,7 @@
 
 #include "db/database.hpp"
 #include "db/digest.hpp"
+#include "support/campaigns.hpp"
 #include "support/run_cli.hpp"
 #include "support/temp_dir.hpp"
 
@@ -44,26 +45,6 @@ std::string campaign_json(int target_generations) {
 std::string digest_of(const fs::path& run) {
     auto connection = db::open_database(run, db::OpenMode::read_only);
     return db::run_digest(connection);
-}
-
-// campaign_run.id -> digest of the finished runs
-std::map<std::int64_t, std::string> digests(const fs::path& dir) {
-    auto connection = db::open_database(dir / "campaign.db", db::OpenMode::read_only);
-    auto rows =
-        connection.prepare("SELECT id, digest FROM campaign_run WHERE status = 'finished' ORDER BY id");
-    std::map<std::int64_t, std::string> out;
-    while (rows.step()) out[rows.column_int(0)] = rows.column_text(1);
-    return out;
-}
-
-std::int64_t finished_runs(const fs::path& dir) {
-    try {
-        auto connection = db::open_database(dir / "campaign.db", db::OpenMode::read_only);
-        return connection.query_int("SELECT count(*) FROM campaign_run WHERE status = 'finished'")
-            .value_or(0);
-    } catch (const std::exception&) {
-        return 0;
-    }
 }
 
 // the pid of MPI rank `rank` of the job whose command line holds `marker`, 0 if none
@@ -176,9 +157,9 @@ TEST_CASE("campaign --mpi with 3 ranks gives the run digests of the single-proce
     INFO(result.err);
     REQUIRE(result.exit_code == 0);
     CHECK_THAT(result.out, Contains("finished 11") && Contains("failed 0"));
-    const auto expected = digests(dir / "one");
+    const auto expected = test::finished_digests(dir / "one");
     CHECK(expected.size() == 11);
-    CHECK(digests(dir / "three") == expected);
+    CHECK(test::finished_digests(dir / "three") == expected);
     CHECK(fs::exists(dir / "three" / "kb" / "kb-rand.db"));
 }
 
@@ -194,7 +175,7 @@ TEST_CASE("a rank killed mid-campaign: one line naming it and its run, then --re
         killed.string(),
         [&](pid_t pid) {
             // killed while it writes a target run (not between two runs)
-            if (finished_runs(killed) < 3) return false;
+            if (test::finished_runs(killed) < 3) return false;
             running = open_run_file(pid, killed);
             return !running.empty();
         },
@@ -202,7 +183,7 @@ TEST_CASE("a rank killed mid-campaign: one line naming it and its run, then --re
     REQUIRE(victim > 0);
     INFO(result.err);
     CHECK(result.exit_code != 0);
-    const auto done_before = finished_runs(killed);
+    const auto done_before = test::finished_runs(killed);
     CHECK(done_before < 11);
     // rank 0's line: the rank, its pid and the run it had
     CHECK_THAT(result.err,
@@ -218,8 +199,8 @@ TEST_CASE("a rank killed mid-campaign: one line naming it and its run, then --re
         test::run_cli({"campaign", (dir / "c.json").string(), "--dir", (dir / "whole").string(), "--quiet"});
     REQUIRE(whole.exit_code == 0);
     INFO(done_before << " runs finished before the kill");
-    CHECK(digests(killed) == digests(dir / "whole"));
-    CHECK(digests(killed).size() == 11);
+    CHECK(test::finished_digests(killed) == test::finished_digests(dir / "whole"));
+    CHECK(test::finished_digests(killed).size() == 11);
 }
 
 TEST_CASE(
@@ -307,5 +288,5 @@ TEST_CASE("campaign --mpi: a run that fails on its rank is recorded with its err
     CHECK_THAT(result.err, Contains("campaign: failed: target/sum/seed-2.db: ") &&
                                Contains("1 run(s) failed (logs in " + (camp / "logs").string()));
     CHECK_THAT(test::read_file(camp / "logs" / "target-sum-seed-2.log"), Contains("stepstone: error: "));
-    CHECK(digests(camp).size() == 10);
+    CHECK(test::finished_digests(camp).size() == 10);
 }
