@@ -156,14 +156,19 @@ std::optional<kb::KnowledgeBase> existing_kb(const runs::CampaignConfig& config,
     return std::move(stored.kb);
 }
 
+// a run's evaluations: generation 0's initial population, then one population a generation
+std::int64_t evaluations_per_run(const runs::RunStep& step) {
+    const auto& ea = step.config.ea;
+    return static_cast<std::int64_t>(ea.initial_multiplier) * ea.population_size +
+           static_cast<std::int64_t>(step.generations) * ea.population_size;
+}
+
 RunKindCost kind_of(const runs::RunStep& step, std::string kind, std::int64_t runs) {
     RunKindCost cost;
     cost.kind = std::move(kind);
     cost.runs = runs;
     cost.generations = step.generations;
-    const auto& ea = step.config.ea;
-    cost.evaluations = static_cast<std::int64_t>(ea.initial_multiplier) * ea.population_size +
-                       static_cast<std::int64_t>(step.generations) * ea.population_size;
+    cost.evaluations = evaluations_per_run(step);
     return cost;
 }
 
@@ -173,10 +178,7 @@ CampaignCost estimate_cost(const runs::CampaignConfig& config, const fs::path& d
     const double started = now_seconds();
     CampaignCost cost;
     auto count = [&](const runs::RunStep& step, std::size_t runs) {
-        const auto& ea = step.config.ea;
-        const std::int64_t per_run = static_cast<std::int64_t>(ea.initial_multiplier) * ea.population_size +
-                                     static_cast<std::int64_t>(step.generations) * ea.population_size;
-        const auto evaluations = per_run * static_cast<std::int64_t>(runs);
+        const auto evaluations = evaluations_per_run(step) * static_cast<std::int64_t>(runs);
         cost.runs += static_cast<std::int64_t>(runs);
         cost.evaluations += evaluations;
         cost.robot_steps +=
