@@ -2,12 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <cstring>
 #include <limits>
 
 #include "core/assert.hpp"
 #include "kb/detail/prefetch.hpp"
+#include "kb/detail/simd.hpp"
 
 namespace stepstone::kb {
 
@@ -261,29 +261,17 @@ void search_generic(const View& t, std::uint32_t root, float root_gap, const flo
     search_loop(t, root, root_gap, query_f, limit, visit, context);
 }
 
-// the AVX2 build of the loops when the CPU has AVX2, unless the environment
-// sets STEPSTONE_KB_GENERIC (so that the generic build is tested, and can be
-// compared, on any machine)
-bool use_avx2() {
-#if defined(__x86_64__) || defined(__i386__)
-    static const bool avx2 = __builtin_cpu_supports("avx2") && std::getenv("STEPSTONE_KB_GENERIC") == nullptr;
-    return avx2;
-#else
-    return false;
-#endif
-}
-
 }  // namespace
 
-BoundTree::BoundTree(const float* points, std::size_t stride, std::size_t dims, std::size_t begin, std::size_t end,
-                     std::size_t leaf_size)
+BoundTree::BoundTree(const float* points, std::size_t stride, std::size_t dims, std::size_t begin,
+                     std::size_t end, std::size_t leaf_size)
     : stride_(stride),
       dims_(dims),
       box_dims_(padded(dims)),
       begin_(begin),
       end_(end),
       leaf_size_(std::max<std::size_t>(leaf_size, 1)),
-      avx2_(use_avx2()) {
+      avx2_(detail::use_avx2()) {
     STEPSTONE_ASSERT(dims >= 1 && dims <= stride);
     STEPSTONE_ASSERT(end > begin && end - begin < kLeafBit);
     std::vector<std::uint32_t> order(end - begin);

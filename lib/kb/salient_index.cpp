@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 
 #include "core/assert.hpp"
@@ -62,8 +63,14 @@ std::unique_ptr<SalientIndex> SalientIndex::build(std::size_t width, std::size_t
     });
 
     const std::size_t dim = width * channels;
+    std::unique_ptr<SalientIndex> salient(new SalientIndex());
+    const std::vector<std::size_t> binary = SignatureScan::binary_channels(values, width, channels);
+    if (!binary.empty()) {
+        salient->all_.emplace(width, channels, binary);
+        for (std::size_t id = 0; id < records.size(); ++id) salient->all_->add(values.data() + id * dim);
+    }
     const auto make_band = [&](std::size_t begin, std::size_t end) {
-        auto band = std::make_unique<Band>(width, channels);
+        auto band = std::make_unique<Band>();
         band->lowest = records[positive[end - 1]].average();
         band->ids.assign(positive.begin() + static_cast<std::ptrdiff_t>(begin),
                          positive.begin() + static_cast<std::ptrdiff_t>(end));
@@ -73,13 +80,28 @@ std::unique_ptr<SalientIndex> SalientIndex::build(std::size_t width, std::size_t
             const float* segment = values.data() + id * dim;
             band->values.insert(band->values.end(), segment, segment + dim);
         }
-        band->index.assign(band->values);
-        // tree or brute force, from how many of the band lie near one of them
-        band->index.probe(band->values.data(), delta);
+        if (salient->all_) {
+            band->scan.emplace(width, channels, binary);
+            for (std::size_t k = 0; k < band->ids.size(); ++k) band->scan->add(band->values.data() + k * dim);
+        } else {
+            band->index.emplace(width, channels);
+            band->index->assign(band->values);
+            // tree or brute force, from how many of the band lie near one of them
+            band->index->probe(band->values.data(), delta);
+        }
         return band;
     };
-    std::unique_ptr<SalientIndex> salient(new SalientIndex());
     if (positive.empty()) return salient;
+    // a scan's cost grows with its band: bands always
+    if (salient->all_) {
+        std::size_t begin = 0;
+        for (std::size_t size = kFirstBand; begin < positive.size(); size *= kBandGrowth) {
+            const std::size_t end = std::min(positive.size(), begin + size);
+            salient->bands_.push_back(make_band(begin, end));
+            begin = end;
+        }
+        return salient;
+    }
     // while the bounds prune (a search checks few segments in full), a
     // search costs little more for more segments: one band; when each search
     // checks a share of them (large delta), its cost grows with the band:
@@ -89,7 +111,7 @@ std::unique_ptr<SalientIndex> SalientIndex::build(std::size_t width, std::size_t
     const std::size_t samples = std::min<std::size_t>(16, positive.size());
     for (std::size_t k = 0; k < samples; ++k)
         fraction +=
-            all->index.candidate_fraction(all->values.data() + (k * positive.size() / samples) * dim, delta);
+            all->index->candidate_fraction(all->values.data() + (k * positive.size() / samples) * dim, delta);
     fraction /= static_cast<double>(samples);
     if (fraction <= kBandsAbove || positive.size() <= kFirstBand) {
         salient->bands_.push_back(std::move(all));
@@ -108,6 +130,7 @@ std::unique_ptr<SalientIndex> SalientIndex::build(std::size_t width, std::size_t
 double SalientIndex::r_max(const float* queries, std::size_t count, std::optional<double> delta,
                            const SegmentIndex& full, std::span<const float> values,
                            std::span<const SegmentRecord> records) const {
+    if (all_) return r_max_scanned(queries, count, delta, values, records);
     const std::size_t dim = full.dim();
     std::vector<Nearest> nearest(count);
     std::vector<std::size_t> open(count);  // queries whose match is not known yet
@@ -126,12 +149,12 @@ double SalientIndex::r_max(const float* queries, std::size_t count, std::optiona
             for (const std::size_t i : open)
                 gathered.insert(gathered.end(), queries + i * dim, queries + (i + 1) * dim);
             found.assign(open.size(), std::nullopt);
-            band->index.nearest_within_batch(band->values, gathered.data(), open.size(), *delta, found);
+            band->index->nearest_within_batch(band->values, gathered.data(), open.size(), *delta, found);
             for (std::size_t k = 0; k < open.size(); ++k)
                 if (found[k]) nearest[open[k]].offer(band->ids[found[k]->id], found[k]->squared_distance);
         } else {
             for (const std::size_t i : open) {
-                const auto near = band->index.nearest(band->values, queries + i * dim);
+                const auto near = band->index->nearest(band->values, queries + i * dim);
                 if (near) nearest[i].offer(band->ids[near->id], near->squared_distance);
             }
         }
@@ -163,15 +186,62 @@ double SalientIndex::r_max(const float* queries, std::size_t count, std::optiona
     return r_max;
 }
 
+double SalientIndex::r_max_scanned(const float* queries, std::size_t count, std::optional<double> delta,
+                                   std::span<const float> values,
+                                   std::span<const SegmentRecord> records) const {
+    const std::size_t dim = all_->dim();
+    const double radius_sq = delta ? *delta * *delta : std::numeric_limits<double>::infinity();
+    std::vector<SignatureScan::Query> prepared;
+    prepared.reserve(count);
+    for (std::size_t i = 0; i < count; ++i) prepared.push_back(all_->prepare(queries + i * dim));
+    std::vector<Nearest> nearest(count);
+    std::vector<std::size_t> open(count);  // queries whose match is not known yet
+    std::iota(open.begin(), open.end(), std::size_t{0});
+    std::vector<std::size_t> candidates;
+    std::vector<bool> settled(count, false);
+    const auto average = [&](std::size_t query) { return records[nearest[query].id].average(); };
+
+    double r_max = 0.0;  // as r_max() above, with scans for searches
+    for (const auto& band : bands_) {
+        for (const std::size_t i : open) {
+            // a segment that cannot equal the nearest so far is skipped
+            const double worst =
+                nearest[i].found ? nearest[i].squared_distance : std::numeric_limits<double>::infinity();
+            const auto near = band->scan->nearest(prepared[i], band->values.data(), radius_sq, worst);
+            if (near) nearest[i].offer(band->ids[near->id], near->squared_distance);
+        }
+        candidates.clear();
+        for (const std::size_t i : open)
+            if (nearest[i].found && average(i) > r_max) candidates.push_back(i);
+        std::stable_sort(candidates.begin(), candidates.end(),
+                         [&](std::size_t a, std::size_t b) { return average(a) > average(b); });
+        for (const std::size_t i : candidates) {
+            if (!(average(i) > r_max)) break;
+            const double radius = radius_covering(nearest[i].squared_distance);
+            const auto match = all_->nearest(prepared[i], values.data(), radius * radius,
+                                             std::numeric_limits<double>::infinity());
+            STEPSTONE_ASSERT(match.has_value());
+            r_max = std::max(r_max, records[match->id].average());
+            settled[i] = true;
+        }
+        if (r_max >= band->lowest) break;
+        std::erase_if(open, [&](std::size_t i) { return settled[i]; });
+        if (open.empty()) break;
+    }
+    return r_max;
+}
+
 double SalientIndex::bytes_per_segment() const {
     double bytes = 0.0;
     std::size_t n = 0;
     for (const auto& band : bands_) {
-        const double per = static_cast<double>(band->index.dim() * sizeof(float) + sizeof(std::size_t)) +
-                           band->index.bytes_per_segment();
+        const std::size_t dim = band->index ? band->index->dim() : band->scan->dim();
+        const double per = static_cast<double>(dim * sizeof(float) + sizeof(std::size_t)) +
+                           (band->index ? band->index->bytes_per_segment() : band->scan->bytes_per_segment());
         bytes += per * static_cast<double>(band->ids.size());
         n += band->ids.size();
     }
+    if (all_) bytes += all_->bytes_per_segment() * static_cast<double>(all_->size());
     return n == 0 ? 0.0 : bytes / static_cast<double>(n);
 }
 

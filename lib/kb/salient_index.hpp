@@ -8,6 +8,7 @@
 
 #include "kb/detail/huge_pages.hpp"
 #include "kb/segment_index.hpp"
+#include "kb/signature_scan.hpp"
 
 namespace stepstone::kb {
 
@@ -32,10 +33,18 @@ struct SegmentRecord;
 /// t reaches the band's lowest average, since every segment that could still
 /// raise t has then been searched.
 ///
+/// When some channels of the KB hold only 0 and 1 (a source run's KB: 9 of
+/// 15), every search is a SignatureScan: the bands' and the bounded full
+/// search, over signatures of every KB segment. A query of the paper's task
+/// is ruled out by its Hamming distance to most segments before any float is
+/// read, which beats the trees of a SegmentIndex on these data (the index's
+/// block-means bound is weak on 0/1 values). Otherwise each band has a
+/// SegmentIndex and the full search is the KB's own index.
+///
 /// Every answer equals KnowledgeBase::lookup(segments).r_max bit for bit: the
-/// searches are SegmentIndex's exact ones, ties go to the lowest KB id (each
-/// band keeps the KB's order, and bands are compared by distance, then id),
-/// and a bounded full search returns the KB's own nearest segment.
+/// searches are exact, ties go to the lowest KB id (each band keeps the KB's
+/// order, and bands are compared by distance, then id), and a bounded full
+/// search returns the KB's own nearest segment.
 class SalientIndex {
 public:
     /// The positive segments of a KB of segments of `width` x `channels`
@@ -50,6 +59,8 @@ public:
     std::size_t size() const;
     /// Number of bands.
     std::size_t bands() const { return bands_.size(); }
+    /// True when searches are signature scans (the KB has binary channels).
+    bool scans() const { return all_.has_value(); }
 
     /// lookup().r_max of the `count` segments at `queries` (dim() values
     /// each, finite) against the KB of `values` and `records`, indexed by
@@ -58,20 +69,24 @@ public:
                  const SegmentIndex& full, std::span<const float> values,
                  std::span<const SegmentRecord> records) const;
 
-    /// Bytes per positive segment (values, KB id and index).
+    /// Bytes held per positive segment (values, KB id, index or signatures,
+    /// and the signatures of every KB segment).
     double bytes_per_segment() const;
 
 private:
     struct Band {
-        explicit Band(std::size_t width, std::size_t channels) : index(width, channels) {}
         std::vector<std::size_t> ids;      // KB id of each segment of the band, increasing
         detail::HugeVector<float> values;  // their values, back to back
-        SegmentIndex index;
+        std::optional<SegmentIndex> index;  // without signatures
+        std::optional<SignatureScan> scan;  // with signatures
         double lowest = 0.0;  // the band's lowest average
     };
     SalientIndex() = default;
+    double r_max_scanned(const float* queries, std::size_t count, std::optional<double> delta,
+                         std::span<const float> values, std::span<const SegmentRecord> records) const;
 
     std::vector<std::unique_ptr<Band>> bands_;  // by decreasing average
+    std::optional<SignatureScan> all_;          // every KB segment, when the KB has binary channels
 };
 
 }  // namespace stepstone::kb

@@ -111,4 +111,31 @@ inline std::vector<float> grid_segments(stepstone::Rng& rng, std::size_t n, std:
     return v;
 }
 
+/// Segments of `width` rows x `channels` shaped like the paper's behaviours:
+/// the channels of `binary` hold 0 or 1, the others floats in [0, 1). They
+/// come from `centres` prototypes, each copy flipping a binary value with
+/// probability `flip` and moving the others by up to +-`spread`; so many
+/// pairs differ in a few bits only, as a policy's and a KB's segments do.
+inline std::vector<float> binary_segments(stepstone::Rng& rng, std::size_t n, std::size_t width,
+                                          std::size_t channels, const std::vector<std::size_t>& binary,
+                                          std::size_t centres, double flip, double spread) {
+    const std::size_t dim = width * channels;
+    std::vector<bool> is_binary(channels, false);
+    for (const std::size_t c : binary) is_binary[c] = true;
+    std::vector<float> c(centres * dim);
+    for (std::size_t i = 0; i < c.size(); ++i)
+        c[i] = is_binary[i % channels] ? static_cast<float>(rng.below(4) == 0)
+                                       : static_cast<float>(rng.uniform());
+    std::vector<float> v(n * dim);
+    for (std::size_t i = 0; i < n; ++i) {
+        const std::size_t k = static_cast<std::size_t>(rng.below(centres));
+        for (std::size_t d = 0; d < dim; ++d) {
+            const float x = c[k * dim + d];
+            v[i * dim + d] = is_binary[d % channels] ? (rng.uniform() < flip ? 1.0f - x : x)
+                                                     : x + static_cast<float>(rng.uniform(-spread, spread));
+        }
+    }
+    return v;
+}
+
 }  // namespace kbtest

@@ -88,6 +88,51 @@ TEST_CASE("r_max through the positive segments equals a linear scan on zero-heav
     }
 }
 
+TEST_CASE("r_max through signature scans equals a linear scan on KBs with binary channels",
+          "[kb][lookup][salient]") {
+    // the paper's shape: 20 rows x 6 channels, three of them 0/1; queries are
+    // KB segments with a few bits flipped and the floats moved
+    const std::size_t width = 20, channels = 6, dim = width * channels;
+    const std::vector<std::size_t> binary{0, 3, 4};
+    const std::vector<kb::Source> sources{{"run", 0, 9, 100}};
+    for (const std::uint64_t seed : {1u, 2u}) {
+        Rng rng(seed, 0, 0, Purpose::test);
+        const auto values = kbtest::binary_segments(rng, 2500, width, channels, binary, 60, 0.02, 0.04);
+        const auto records = zero_heavy_records(rng, 2500, 0.2);
+        for (const double delta : {1.0, 1.83, 3.84}) {
+            for (const kb::Match match : {kb::Match::within_delta, kb::Match::nearest}) {
+                const auto kb = kb::KnowledgeBase::from_segments(params_of(width, channels, delta, match),
+                                                                 sources, values, records);
+                const auto salient = kb::SalientIndex::build(width, channels, delta, values, records);
+                REQUIRE(salient);
+                REQUIRE(salient->scans());
+                REQUIRE(salient->bands() == 2);  // ~500 positive: 256 + the rest
+                for (std::size_t p = 0; p < 12; ++p) {
+                    std::vector<float> queries(40 * dim);
+                    for (std::size_t i = 0; i < 40; ++i) {
+                        const std::size_t near = rng.below(records.size());
+                        for (std::size_t d = 0; d < dim; ++d) {
+                            const float x = values[near * dim + d];
+                            const bool is_binary =
+                                d % channels == 0 || d % channels == 3 || d % channels == 4;
+                            queries[i * dim + d] = is_binary ? (rng.uniform() < 0.01 ? 1.0f - x : x)
+                                                             : x + static_cast<float>(rng.uniform(-0.1, 0.1));
+                        }
+                    }
+                    const double expected =
+                        oracle_r_max(values, records, dim, delta, match == kb::Match::nearest, queries);
+                    const kb::Segments segments{queries, dim};
+                    REQUIRE(salient->r_max(
+                                queries.data(), 40,
+                                match == kb::Match::nearest ? std::nullopt : std::optional<double>(delta),
+                                kb::SegmentIndex(width, channels), values, records) == expected);
+                    REQUIRE(kb.r_max(segments) == expected);
+                }
+            }
+        }
+    }
+}
+
 TEST_CASE("the positive segments are cut into bands only when searches check many of them", "[kb][salient]") {
     const std::size_t dim = 12;
     Rng rng(7, 0, 0, Purpose::test);

@@ -8,3 +8,21 @@
 #else
 #define STEPSTONE_KB_CLONES
 #endif
+
+#include <cstdlib>
+
+namespace stepstone::kb::detail {
+
+/// True when the hand-written AVX2 kernels of the knowledge base run: the CPU
+/// has AVX2 and the environment does not set STEPSTONE_KB_GENERIC (so that the
+/// generic kernels are tested, and can be compared, on any machine).
+inline bool use_avx2() {
+#if defined(__x86_64__) || defined(__i386__)
+    static const bool avx2 = __builtin_cpu_supports("avx2") && std::getenv("STEPSTONE_KB_GENERIC") == nullptr;
+    return avx2;
+#else
+    return false;
+#endif
+}
+
+}  // namespace stepstone::kb::detail
