@@ -189,11 +189,8 @@ double SalientIndex::r_max(const float* queries, std::size_t count, std::optiona
 double SalientIndex::r_max_scanned(const float* queries, std::size_t count, std::optional<double> delta,
                                    std::span<const float> values,
                                    std::span<const SegmentRecord> records) const {
-    const std::size_t dim = all_->dim();
     const double radius_sq = delta ? *delta * *delta : std::numeric_limits<double>::infinity();
-    std::vector<SignatureScan::Query> prepared;
-    prepared.reserve(count);
-    for (std::size_t i = 0; i < count; ++i) prepared.push_back(all_->prepare(queries + i * dim));
+    const SignatureScan::Queries prepared = all_->prepare(queries, count);
     std::vector<Nearest> nearest(count);
     std::vector<std::size_t> open(count);  // queries whose match is not known yet
     std::iota(open.begin(), open.end(), std::size_t{0});

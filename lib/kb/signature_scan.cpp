@@ -135,45 +135,72 @@ double SignatureScan::bytes_per_segment() const {
                                blocks_ * other_.size() * sizeof(float));
 }
 
-SignatureScan::Query SignatureScan::prepare(const float* query) const {
+SignatureScan::Query SignatureScan::Queries::operator[](std::size_t i) const {
     Query q;
-    q.values = query;
-    const std::size_t nb = binary_.size();
-    q.counts.assign(nb, 0);
-    q.bits.assign(words_, 0);
-    q.mask.assign(words_, 0);
-    q.counts_usable = counts_on_;
-    for (std::size_t j = 0; j < nb; ++j) {
-        std::size_t ones = 0;
-        for (std::size_t r = 0; r < width_; ++r) {
-            const float v = query[r * channels_ + binary_[j]];
-            if (!is_binary(v)) {
-                q.counts_usable = false;
-                continue;
-            }
-            const std::size_t bit = r * nb + j;
-            q.mask[bit / 64] |= std::uint64_t{1} << (bit % 64);
-            if (v == 1.0f) {
-                q.bits[bit / 64] |= std::uint64_t{1} << (bit % 64);
-                ++ones;
-            }
-        }
-        q.counts[j] = static_cast<std::uint8_t>(std::min<std::size_t>(ones, 255));
-    }
-    double max_abs = max_abs_;
-    for (std::size_t b = 0; b < blocks_; ++b) {
-        for (const std::size_t c : other_) {
-            double sum = 0.0;
-            for (std::size_t r = b * kBlockRows; r < std::min(width_, (b + 1) * kBlockRows); ++r) {
-                sum += static_cast<double>(query[r * channels_ + c]);
-                max_abs = std::max(max_abs, static_cast<double>(std::fabs(query[r * channels_ + c])));
-            }
-            q.sums.push_back(static_cast<float>(sum));
-        }
-    }
-    q.sums_usable = !other_.empty() && max_abs < kMaxMagnitude;
-    q.pad = kPadPerMagnitude * max_abs;
+    q.values = values_ + i * dim_;
+    q.counts_usable = counts_usable_[i] != 0;
+    q.counts = counts_.data() + i * nb_;
+    q.bits = bits_.data() + i * words_;
+    q.mask = mask_.data() + i * words_;
+    q.sums = sums_.data() + i * sums_per_;
+    q.sums_usable = sums_usable_[i] != 0;
+    q.pad = pad_[i];
     return q;
+}
+
+SignatureScan::Queries SignatureScan::prepare(const float* queries, std::size_t count) const {
+    Queries out;
+    const std::size_t nb = binary_.size();
+    out.count_ = count;
+    out.dim_ = dim();
+    out.nb_ = nb;
+    out.words_ = words_;
+    out.sums_per_ = blocks_ * other_.size();
+    out.values_ = queries;
+    out.counts_.assign(count * nb, 0);
+    out.counts_usable_.assign(count, counts_on_ ? 1 : 0);
+    out.sums_usable_.assign(count, 0);
+    out.bits_.assign(count * words_, 0);
+    out.mask_.assign(count * words_, 0);
+    out.sums_.assign(count * out.sums_per_, 0.0f);
+    out.pad_.assign(count, 0.0);
+    const std::size_t no = other_.size();
+    std::vector<double> block(blocks_ * no);
+    for (std::size_t i = 0; i < count; ++i) {
+        const float* query = queries + i * dim();
+        std::uint8_t* counts = out.counts_.data() + i * nb;
+        std::uint64_t* bits = out.bits_.data() + i * words_;
+        std::uint64_t* mask = out.mask_.data() + i * words_;
+        // the largest magnitude of all values (a binary channel's add at
+        // most 1 to the pad's scale)
+        float max_abs = 0.0f;
+        for (std::size_t k = 0; k < dim(); ++k) max_abs = std::max(max_abs, std::fabs(query[k]));
+        bool binary = true;
+        std::fill(block.begin(), block.end(), 0.0);
+        for (std::size_t r = 0; r < width_; ++r) {
+            const float* row = query + r * channels_;
+            for (std::size_t j = 0; j < nb; ++j) {
+                const float v = row[binary_[j]];
+                const bool one = v == 1.0f;
+                const bool valid = one || v == 0.0f;
+                binary = binary && valid;
+                const std::size_t bit = r * nb + j;
+                bits[bit / 64] |= std::uint64_t{one} << (bit % 64);
+                mask[bit / 64] |= std::uint64_t{valid} << (bit % 64);
+                // at most width_ <= 255 ones when counts are used
+                counts[j] = static_cast<std::uint8_t>(counts[j] + one);
+            }
+            double* row_block = block.data() + r / kBlockRows * no;
+            for (std::size_t o = 0; o < no; ++o) row_block[o] += static_cast<double>(row[other_[o]]);
+        }
+        float* sums = out.sums_.data() + i * out.sums_per_;
+        for (std::size_t k = 0; k < block.size(); ++k) sums[k] = static_cast<float>(block[k]);
+        const double magnitude = std::max(max_abs_, static_cast<double>(max_abs));
+        if (!binary) out.counts_usable_[i] = 0;
+        out.sums_usable_[i] = no > 0 && magnitude < kMaxMagnitude;
+        out.pad_[i] = kPadPerMagnitude * magnitude;
+    }
+    return out;
 }
 
 // stages 2 to 4 for segment k (stage 1 passed or skipped); true when it
@@ -202,8 +229,9 @@ SignatureScan::Query SignatureScan::prepare(const float* query) const {
         if (!s.admits((hamming + cs) * kBoundScale)) return false;
     }
     const std::size_t n = dim();
+    const float* segment = s.values + k * n;
     const double bound = s.found ? s.best_d2 : std::min(s.worst, s.radius_sq);
-    const double d2 = squared_distance_up_to(q.values, s.values + k * n, n, bound);
+    const double d2 = squared_distance_up_to(q.values, segment, n, bound);
     if (!(d2 < s.radius_sq && (s.found ? d2 < s.best_d2 : d2 <= s.worst))) return false;
     s.found = true;
     s.best = k;

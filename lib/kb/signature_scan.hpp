@@ -53,19 +53,36 @@ public:
     /// Bytes held per segment (counts, bits and block sums).
     double bytes_per_segment() const;
 
-    /// A query's signature, computed once for any number of scans.
+    /// A query's signature (a view into its Queries).
     struct Query {
         const float* values = nullptr;
-        bool counts_usable = false;        // every binary channel of the query is 0/1
-        std::vector<std::uint8_t> counts;  // ones per binary channel
-        std::vector<std::uint64_t> bits;   // binary values (0 where not 0/1)
-        std::vector<std::uint64_t> mask;   // bits whose query value is 0/1
-        std::vector<float> sums;           // block sums of the other channels
-        double pad = 0.0;                  // rounding allowance of a block-sum difference
+        bool counts_usable = false;            // every binary channel of the query is 0/1
+        const std::uint8_t* counts = nullptr;  // ones per binary channel
+        const std::uint64_t* bits = nullptr;   // binary values (0 where not 0/1)
+        const std::uint64_t* mask = nullptr;   // bits whose query value is 0/1
+        const float* sums = nullptr;           // block sums of the other channels
         bool sums_usable = false;
+        double pad = 0.0;  // rounding allowance of a block-sum difference
     };
-    /// The signature of `query` (dim() finite values, kept by pointer).
-    Query prepare(const float* query) const;
+    /// The signatures of a batch of queries, computed once for any number of scans.
+    class Queries {
+    public:
+        std::size_t size() const { return count_; }
+        Query operator[](std::size_t i) const;
+
+    private:
+        friend class SignatureScan;
+        std::size_t count_ = 0;
+        std::size_t dim_ = 0, nb_ = 0, words_ = 0, sums_per_ = 0;
+        const float* values_ = nullptr;
+        std::vector<std::uint8_t> counts_, counts_usable_, sums_usable_;
+        std::vector<std::uint64_t> bits_, mask_;
+        std::vector<float> sums_;
+        std::vector<double> pad_;
+    };
+    /// The signatures of the `count` queries at `queries` (dim() finite
+    /// values each, kept by pointer).
+    Queries prepare(const float* queries, std::size_t count) const;
 
     /// The nearest segment k (values at values + k * dim()) with squared
     /// distance < radius_sq and <= `worst`, ties going to the lowest k; nullopt

@@ -37,7 +37,7 @@ std::optional<std::pair<std::size_t, double>> oracle(const std::vector<float>& v
 
 void require_same(const kb::SignatureScan& scan, const std::vector<float>& values, const float* query,
                   double radius_sq, double worst) {
-    const auto got = scan.nearest(scan.prepare(query), values.data(), radius_sq, worst);
+    const auto got = scan.nearest(scan.prepare(query, 1)[0], values.data(), radius_sq, worst);
     const auto want = oracle(values, scan.dim(), query, radius_sq, worst);
     REQUIRE(got.has_value() == want.has_value());
     if (want) {
@@ -69,7 +69,8 @@ TEST_CASE("a segment whose distance is exactly its Hamming distance is found jus
                                     1, 0.25f, 1, 0.5f, 1, 0.75f, 0, 1};
     const std::vector<float> query{0, 0.25f, 0, 0.5f, 0, 0.75f, 0, 1};
     const auto scan = scan_of(values, 4, 2, {0});
-    const auto q = scan.prepare(query.data());
+    const auto prepared = scan.prepare(query.data(), 1);
+    const auto q = prepared[0];
     // within 1.83 (3 < 3.3489), not within sqrt(3) (3 < 3 fails)
     const auto near = scan.nearest(q, values.data(), 1.83 * 1.83, kInf);
     REQUIRE(near);
@@ -126,8 +127,8 @@ TEST_CASE("a scan keeps the lowest index among equal distances", "[kb][signature
         q[0] += 0.01f;
         q[5] -= 0.02f;
         require_same(scan, values, q.data(), 4.0, kInf);
-        REQUIRE(scan.nearest(scan.prepare(q.data()), values.data(), 4.0, kInf)->id == i);
-        const auto near = scan.nearest(scan.prepare(once.data() + i * dim), values.data(), 1.0, kInf);
+        REQUIRE(scan.nearest(scan.prepare(q.data(), 1)[0], values.data(), 4.0, kInf)->id == i);
+        const auto near = scan.nearest(scan.prepare(once.data() + i * dim, 1)[0], values.data(), 1.0, kInf);
         REQUIRE(near);
         CHECK(near->id == i);
         CHECK(near->squared_distance == 0.0);
@@ -212,7 +213,7 @@ TEST_CASE("the block sums' bound allows for their rounding to float", "[kb][sign
         const auto scan = scan_of(segment, 4, 2, {0});
         const double d2 = kbtest::oracle_squared_distance(query.data(), segment.data(), 8);
         const auto near =
-            scan.nearest(scan.prepare(query.data()), segment.data(), std::nextafter(d2, kInf), kInf);
+            scan.nearest(scan.prepare(query.data(), 1)[0], segment.data(), std::nextafter(d2, kInf), kInf);
         REQUIRE(near);
         REQUIRE(near->squared_distance == d2);
     }
