@@ -192,6 +192,19 @@ void remove_journals(const fs::path& path) {
 
 }  // namespace
 
+void settle_journal(const fs::path& path) {
+    std::error_code ec;
+    if (!fs::exists(fs::path(path.string() + "-wal"), ec) &&
+        !fs::exists(fs::path(path.string() + "-shm"), ec))
+        return;
+    try {
+        auto connection = open_database(path, OpenMode::read_write);
+        finish_writing(connection);
+    } catch (const Error&) {
+        // busy or unreadable: the journal stays, which is still correct
+    }
+}
+
 void remove_database_files(const fs::path& path) {
     std::error_code ec;
     fs::remove(path, ec);

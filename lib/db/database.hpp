@@ -72,6 +72,15 @@ void start_writing(Connection& connection);
 /// nothing if another connection holds the file (the switch needs it alone).
 void finish_writing(Connection& connection);
 
+/// A file whose writer has ended, left in WAL mode with -wal / -shm beside it
+/// (its writer closed while a reader held it, so SQLite could not fold the
+/// journal back): opened read-write alone, folded back and switched out of
+/// WAL mode, as its writer would have. Does nothing when no -wal or -shm is
+/// beside `path`, and leaves things as they are if the file is busy or
+/// unreadable (a reader still holds it): every committed write is in the
+/// file or its -wal either way.
+void settle_journal(const std::filesystem::path& path);
+
 /// Application id and schema version of an open connection.
 DatabaseInfo database_info(Connection& connection);
 

@@ -130,7 +130,7 @@ std::unique_ptr<SalientIndex> SalientIndex::build(std::size_t width, std::size_t
 double SalientIndex::r_max(const float* queries, std::size_t count, std::optional<double> delta,
                            const SegmentIndex& full, std::span<const float> values,
                            std::span<const SegmentRecord> records) const {
-    if (all_) return r_max_scanned(queries, count, delta, values, records);
+    if (all_) return r_max_scanned(queries, count, delta, full, values, records);
     const std::size_t dim = full.dim();
     std::vector<Nearest> nearest(count);
     std::vector<std::size_t> open(count);  // queries whose match is not known yet
@@ -187,7 +187,7 @@ double SalientIndex::r_max(const float* queries, std::size_t count, std::optiona
 }
 
 double SalientIndex::r_max_scanned(const float* queries, std::size_t count, std::optional<double> delta,
-                                   std::span<const float> values,
+                                   const SegmentIndex& full, std::span<const float> values,
                                    std::span<const SegmentRecord> records) const {
     const double radius_sq = delta ? *delta * *delta : std::numeric_limits<double>::infinity();
     const SignatureScan::Queries prepared = all_->prepare(queries, count);
@@ -215,8 +215,13 @@ double SalientIndex::r_max_scanned(const float* queries, std::size_t count, std:
         for (const std::size_t i : candidates) {
             if (!(average(i) > r_max)) break;
             const double radius = radius_covering(nearest[i].squared_distance);
-            const auto match = all_->nearest(prepared[i], values.data(), radius * radius,
-                                             std::numeric_limits<double>::infinity());
+            // the KB's index where its trees prune (a large KB), else a scan
+            const auto match =
+                !full.brute_force() && full.size() > 0
+                    ? (std::isfinite(radius) ? full.nearest_within(values, queries + i * all_->dim(), radius)
+                                             : full.nearest(values, queries + i * all_->dim()))
+                    : all_->nearest(prepared[i], values.data(), radius * radius,
+                                    std::numeric_limits<double>::infinity());
             STEPSTONE_ASSERT(match.has_value());
             r_max = std::max(r_max, records[match->id].average());
             settled[i] = true;

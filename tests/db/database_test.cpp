@@ -258,3 +258,28 @@ TEST_CASE("replacing an output with force drops the old file's journals", "[db][
     CHECK(db::meta_value(connection, "new") == "1");
     CHECK(db::meta_value(connection, "key0").empty());
 }
+
+TEST_CASE("a file its writer closed beside a reader is folded back out of WAL mode by settle_journal",
+          "[db][wal]") {
+    test::TempDir dir;
+    const auto path = dir / "run.db";
+    {
+        auto writer = db::open_database(path, db::OpenMode::create);
+        db::start_writing(writer);
+        db::set_meta_value(writer, "x", "1");
+        // a reader holds the file as the writer closes: SQLite leaves the journal
+        auto reader = db::open_database(path, db::OpenMode::read_only);
+        CHECK(db::meta_value(reader, "x") == "1");
+        writer.close();
+    }
+    REQUIRE((std::filesystem::exists(dir / "run.db-wal") || std::filesystem::exists(dir / "run.db-shm")));
+    db::settle_journal(path);
+    CHECK_FALSE(std::filesystem::exists(dir / "run.db-wal"));
+    CHECK_FALSE(std::filesystem::exists(dir / "run.db-shm"));
+    auto connection = db::open_database(path, db::OpenMode::read_only);
+    CHECK(db::meta_value(connection, "x") == "1");
+    // nothing beside the file: nothing to do, nothing created
+    db::settle_journal(path);
+    db::settle_journal(dir / "missing.db");
+    CHECK_FALSE(std::filesystem::exists(dir / "missing.db"));
+}

@@ -187,6 +187,9 @@ RunLaunch Runner::launch_of(std::size_t k, unsigned threads) const {
 std::optional<std::string> Runner::finish(const Active& done, const RunEnd& end) {
     auto& state = runs_[done.index];
     const double wall = now_seconds() - done.started;
+    // the run's process has ended, but a progress reading (report()) may have
+    // held its file as it closed it, which leaves the file in WAL mode
+    if (executor_.runs_here()) db::settle_journal(options_.dir / state.run.file);
     if (end.stopped && InterruptGuard::received()) {
         // its file keeps every committed generation: a resume continues it
         state.status = runs::RunStatus::pending;
