@@ -20,6 +20,11 @@ constexpr std::size_t kBandGrowth = 4;
 // at delta 1.83 and 5.1 % at 3.84 on a paper-size source run's KB, where one
 // band was faster at 1.83 and bands 2.4x faster at 3.84
 constexpr double kBandsAbove = 0.03;
+// signature scans grow with the positive segments, the trees' searches far
+// less: measured on shaped target runs, scans were 4x faster with 2,114
+// positive segments (delta 1.83) and 1.3x with 3,700 (3.84), 1.3x slower
+// with 4,600 and 2x slower with 19,022 (a paper-size KB at 1.83)
+constexpr std::size_t kScanAtMost = 4096;
 
 // a query's nearest positive segment so far (a KB id)
 struct Nearest {
@@ -64,7 +69,9 @@ std::unique_ptr<SalientIndex> SalientIndex::build(std::size_t width, std::size_t
 
     const std::size_t dim = width * channels;
     std::unique_ptr<SalientIndex> salient(new SalientIndex());
-    const std::vector<std::size_t> binary = SignatureScan::binary_channels(values, width, channels);
+    const std::vector<std::size_t> binary = positive.size() <= kScanAtMost
+                                                ? SignatureScan::binary_channels(values, width, channels)
+                                                : std::vector<std::size_t>{};
     if (!binary.empty()) {
         salient->all_.emplace(width, channels, binary);
         for (std::size_t id = 0; id < records.size(); ++id) salient->all_->add(values.data() + id * dim);

@@ -34,12 +34,11 @@ struct SegmentRecord;
 /// raise t has then been searched.
 ///
 /// When some channels of the KB hold only 0 and 1 (a source run's KB: 9 of
-/// 15), every search is a SignatureScan: the bands' and the bounded full
-/// search, over signatures of every KB segment. A query of the paper's task
-/// is ruled out by its Hamming distance to most segments before any float is
-/// read, which beats the trees of a SegmentIndex on these data (the index's
-/// block-means bound is weak on 0/1 values). Otherwise each band has a
-/// SegmentIndex and the full search is the KB's own index.
+/// 15) and at most 4,096 segments are positive, every search is a SignatureScan: the bands' and the bounded
+/// full search, over signatures of every KB segment. A query of the paper's task is ruled out by its Hamming
+/// distance to most segments before any float is read, which beats the trees of a SegmentIndex on these data
+/// (the index's block-means bound is weak on 0/1 values). Otherwise each band has a SegmentIndex and the full
+/// search is the KB's own index.
 ///
 /// Every answer equals KnowledgeBase::lookup(segments).r_max bit for bit: the
 /// searches are exact, ties go to the lowest KB id (each band keeps the KB's

@@ -133,6 +133,20 @@ TEST_CASE("r_max through signature scans equals a linear scan on KBs with binary
     }
 }
 
+TEST_CASE("signature scans serve KBs of at most 4,096 positive segments, trees the larger ones",
+          "[kb][salient]") {
+    const std::size_t width = 20, channels = 6;
+    Rng rng(4, 0, 0, Purpose::test);
+    const auto values = kbtest::binary_segments(rng, 9000, width, channels, {0, 3, 4}, 60, 0.02, 0.04);
+    std::vector<kb::SegmentRecord> records(9000, kb::SegmentRecord{0.0, 1, {0, 0}, {0, 0}});
+    for (std::size_t i = 0; i < 4096; ++i) records[i].cum_reward = 0.5;
+    CHECK(kb::SalientIndex::build(width, channels, 1.83, values, records)->scans());
+    records[4096].cum_reward = 0.5;
+    const auto large = kb::SalientIndex::build(width, channels, 1.83, values, records);
+    CHECK_FALSE(large->scans());
+    CHECK(large->size() == 4097);
+}
+
 TEST_CASE("the positive segments are cut into bands only when searches check many of them", "[kb][salient]") {
     const std::size_t dim = 12;
     Rng rng(7, 0, 0, Purpose::test);
