@@ -137,20 +137,43 @@ std::unique_ptr<SalientIndex> SalientIndex::build(std::size_t width, std::size_t
 double SalientIndex::r_max(const float* queries, std::size_t count, std::optional<double> delta,
                            const SegmentIndex& full, std::span<const float> values,
                            std::span<const SegmentRecord> records) const {
-    if (all_) return r_max_scanned(queries, count, delta, full, values, records);
     const std::size_t dim = full.dim();
+    // with signatures: each query's signature, computed once for every band
+    // and confirming search
+    std::optional<SignatureScan::Queries> prepared;
+    if (all_) prepared = all_->prepare(queries, count);
+    const double radius_sq = delta ? *delta * *delta : std::numeric_limits<double>::infinity();
     std::vector<Nearest> nearest(count);
     std::vector<std::size_t> open(count);  // queries whose match is not known yet
     std::iota(open.begin(), open.end(), std::size_t{0});
     std::vector<std::size_t> candidates;
     std::vector<float> gathered;
     std::vector<std::optional<Neighbour>> found;
+    std::vector<bool> settled(count, false);
     const auto average = [&](std::size_t query) { return records[nearest[query].id].average(); };
+    // the full KB's nearest segment within `radius`: its index where its trees
+    // prune (a large KB), a scan where it would scan anyway
+    const auto full_nearest = [&](std::size_t i, double radius) {
+        if (all_ && (full.brute_force() || full.size() == 0))
+            return all_->nearest((*prepared)[i], values.data(), radius * radius,
+                                 std::numeric_limits<double>::infinity());
+        const float* query = queries + i * dim;
+        return std::isfinite(radius) ? full.nearest_within(values, query, radius)
+                                     : full.nearest(values, query);
+    };
 
     double r_max = 0.0;  // a segment without a match counts 0, and no average is below it
     for (const auto& band : bands_) {
         // each open query's nearest positive segment, this band included
-        if (delta) {
+        if (band->scan) {
+            for (const std::size_t i : open) {
+                // a segment that cannot equal the nearest so far is skipped
+                const double worst =
+                    nearest[i].found ? nearest[i].squared_distance : std::numeric_limits<double>::infinity();
+                const auto near = band->scan->nearest((*prepared)[i], band->values.data(), radius_sq, worst);
+                if (near) nearest[i].offer(band->ids[near->id], near->squared_distance);
+            }
+        } else if (delta) {
             // all at once: the index interleaves their walks
             gathered.clear();
             for (const std::size_t i : open)
@@ -174,65 +197,14 @@ double SalientIndex::r_max(const float* queries, std::size_t count, std::optiona
             if (nearest[i].found && average(i) > r_max) candidates.push_back(i);
         std::stable_sort(candidates.begin(), candidates.end(),
                          [&](std::size_t a, std::size_t b) { return average(a) > average(b); });
-        std::vector<bool> settled(count, false);
         for (const std::size_t i : candidates) {
             if (!(average(i) > r_max)) break;
-            const float* query = queries + i * dim;
-            const double radius = radius_covering(nearest[i].squared_distance);
-            const auto match = std::isfinite(radius) ? full.nearest_within(values, query, radius)
-                                                     : full.nearest(values, query);
+            const auto match = full_nearest(i, radius_covering(nearest[i].squared_distance));
             STEPSTONE_ASSERT(match.has_value());
             r_max = std::max(r_max, records[match->id].average());
             settled[i] = true;
         }
         // every segment averaging more than r_max has been searched
-        if (r_max >= band->lowest) break;
-        std::erase_if(open, [&](std::size_t i) { return settled[i]; });
-        if (open.empty()) break;
-    }
-    return r_max;
-}
-
-double SalientIndex::r_max_scanned(const float* queries, std::size_t count, std::optional<double> delta,
-                                   const SegmentIndex& full, std::span<const float> values,
-                                   std::span<const SegmentRecord> records) const {
-    const double radius_sq = delta ? *delta * *delta : std::numeric_limits<double>::infinity();
-    const SignatureScan::Queries prepared = all_->prepare(queries, count);
-    std::vector<Nearest> nearest(count);
-    std::vector<std::size_t> open(count);  // queries whose match is not known yet
-    std::iota(open.begin(), open.end(), std::size_t{0});
-    std::vector<std::size_t> candidates;
-    std::vector<bool> settled(count, false);
-    const auto average = [&](std::size_t query) { return records[nearest[query].id].average(); };
-
-    double r_max = 0.0;  // as r_max() above, with scans for searches
-    for (const auto& band : bands_) {
-        for (const std::size_t i : open) {
-            // a segment that cannot equal the nearest so far is skipped
-            const double worst =
-                nearest[i].found ? nearest[i].squared_distance : std::numeric_limits<double>::infinity();
-            const auto near = band->scan->nearest(prepared[i], band->values.data(), radius_sq, worst);
-            if (near) nearest[i].offer(band->ids[near->id], near->squared_distance);
-        }
-        candidates.clear();
-        for (const std::size_t i : open)
-            if (nearest[i].found && average(i) > r_max) candidates.push_back(i);
-        std::stable_sort(candidates.begin(), candidates.end(),
-                         [&](std::size_t a, std::size_t b) { return average(a) > average(b); });
-        for (const std::size_t i : candidates) {
-            if (!(average(i) > r_max)) break;
-            const double radius = radius_covering(nearest[i].squared_distance);
-            // the KB's index where its trees prune (a large KB), else a scan
-            const auto match =
-                !full.brute_force() && full.size() > 0
-                    ? (std::isfinite(radius) ? full.nearest_within(values, queries + i * all_->dim(), radius)
-                                             : full.nearest(values, queries + i * all_->dim()))
-                    : all_->nearest(prepared[i], values.data(), radius * radius,
-                                    std::numeric_limits<double>::infinity());
-            STEPSTONE_ASSERT(match.has_value());
-            r_max = std::max(r_max, records[match->id].average());
-            settled[i] = true;
-        }
         if (r_max >= band->lowest) break;
         std::erase_if(open, [&](std::size_t i) { return settled[i]; });
         if (open.empty()) break;

@@ -81,9 +81,6 @@ private:
         double lowest = 0.0;  // the band's lowest average
     };
     SalientIndex() = default;
-    double r_max_scanned(const float* queries, std::size_t count, std::optional<double> delta,
-                         const SegmentIndex& full, std::span<const float> values,
-                         std::span<const SegmentRecord> records) const;
 
     std::vector<std::unique_ptr<Band>> bands_;  // by decreasing average
     std::optional<SignatureScan> all_;          // every KB segment, when the KB has binary channels
