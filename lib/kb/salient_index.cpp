@@ -99,32 +99,24 @@ std::unique_ptr<SalientIndex> SalientIndex::build(std::size_t width, std::size_t
         return band;
     };
     if (positive.empty()) return salient;
-    // a scan's cost grows with its band: bands always
-    if (salient->all_) {
-        std::size_t begin = 0;
-        for (std::size_t size = kFirstBand; begin < positive.size(); size *= kBandGrowth) {
-            const std::size_t end = std::min(positive.size(), begin + size);
-            salient->bands_.push_back(make_band(begin, end));
-            begin = end;
+    // a scan's cost grows with its band: bands always. With trees, while the
+    // bounds prune (a search checks few segments in full), a search costs
+    // little more for more segments: one band; when each search checks a share
+    // of them (large delta), its cost grows with the band: bands, so that a
+    // policy searches only those that could raise its r_max
+    if (!salient->all_) {
+        auto all = make_band(0, positive.size());
+        double fraction = 0.0;
+        const std::size_t samples = std::min<std::size_t>(16, positive.size());
+        for (std::size_t k = 0; k < samples; ++k)
+            fraction += all->index->candidate_fraction(
+                all->values.data() + (k * positive.size() / samples) * dim, delta);
+        fraction /= static_cast<double>(samples);
+        if (fraction <= kBandsAbove || positive.size() <= kFirstBand) {
+            salient->bands_.push_back(std::move(all));
+            return salient;
         }
-        return salient;
     }
-    // while the bounds prune (a search checks few segments in full), a
-    // search costs little more for more segments: one band; when each search
-    // checks a share of them (large delta), its cost grows with the band:
-    // bands, so that a policy searches only those that could raise its r_max
-    auto all = make_band(0, positive.size());
-    double fraction = 0.0;
-    const std::size_t samples = std::min<std::size_t>(16, positive.size());
-    for (std::size_t k = 0; k < samples; ++k)
-        fraction +=
-            all->index->candidate_fraction(all->values.data() + (k * positive.size() / samples) * dim, delta);
-    fraction /= static_cast<double>(samples);
-    if (fraction <= kBandsAbove || positive.size() <= kFirstBand) {
-        salient->bands_.push_back(std::move(all));
-        return salient;
-    }
-    all.reset();
     std::size_t begin = 0;
     for (std::size_t size = kFirstBand; begin < positive.size(); size *= kBandGrowth) {
         const std::size_t end = std::min(positive.size(), begin + size);
