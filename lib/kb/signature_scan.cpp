@@ -171,8 +171,8 @@ SignatureScan::Queries SignatureScan::prepare(const float* queries, std::size_t 
         std::uint8_t* counts = out.counts_.data() + i * nb;
         std::uint64_t* bits = out.bits_.data() + i * words_;
         std::uint64_t* mask = out.mask_.data() + i * words_;
-        // the largest magnitude of all values (a binary channel's add at
-        // most 1 to the pad's scale)
+        // the largest magnitude of all values (a value of a binary channel
+        // adds at most 1 to the pad's scale)
         float max_abs = 0.0f;
         for (std::size_t k = 0; k < dim(); ++k) max_abs = std::max(max_abs, std::fabs(query[k]));
         bool binary = true;
