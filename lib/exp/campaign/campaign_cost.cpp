@@ -28,7 +28,11 @@ double RunKindCost::cpu_seconds() const {
            static_cast<double>(evaluations) * (simulation_s + lookup_s);
 }
 
-double RunKindCost::bytes() const { return static_cast<double>(evaluations) * bytes_per_evaluation; }
+double RunKindCost::bytes() const {
+    return bytes_fixed + static_cast<double>(evaluations) * bytes_per_evaluation +
+           static_cast<double>(generations + 1) * bytes_per_generation +
+           static_cast<double>(observations) * kb_bytes_per_observation;
+}
 
 namespace {
 
@@ -120,16 +124,24 @@ void probe_generations(const runs::EvolveConfig& config, const fs::path& folder,
     options.progress = ProgressMode::quiet;
     options.stop_on_signals = false;
     run_evolve(options);
-    double evaluations = 0;
-    {
-        auto connection = db::open_database(options.db_path, db::OpenMode::read_only);
-        auto row = connection.prepare(db::sql("run/probe_generation_cost.sql"));
-        row.step();
-        cost.other_s = std::max(0.0, row.column_double(row.column("other_s")));
-        evaluations = row.column_double(row.column("evaluations"));
-    }
-    cost.bytes_per_evaluation =
-        static_cast<double>(fs::file_size(options.db_path)) / std::max(1.0, evaluations);
+    auto connection = db::open_database(options.db_path, db::OpenMode::read_only);
+    auto row = connection.prepare(db::sql("run/probe_generation_cost.sql"));
+    row.step();
+    cost.other_s = std::max(0.0, row.column_double(row.column("other_s")));
+    const double evaluations = std::max(1.0, row.column_double(row.column("evaluations")));
+    // the file by part: rows per evaluation, genomes per generation, the KB per observation
+    // (the probe observes once, at generation 0, when the config has a KB), the rest once
+    auto bytes = connection.prepare(db::sql("run/probe_file_bytes.sql"));
+    bytes.step();
+    const double individual = bytes.column_double(bytes.column("individual_bytes"));
+    const double generation = bytes.column_double(bytes.column("generation_bytes"));
+    const double kb = config.kb ? bytes.column_double(bytes.column("kb_bytes")) : 0.0;  // else empty tables
+    const double total = bytes.column_double(bytes.column("total_bytes"));
+    cost.bytes_per_evaluation = individual / evaluations;
+    cost.bytes_per_generation = generation / (kProbeGenerations + 1);
+    cost.kb_bytes_per_observation = kb;
+    cost.bytes_fixed = std::max(0.0, total - individual - generation - kb);
+    cost.observations = config.kb ? cost.generations / config.kb->period + 1 : 0;
 }
 
 // The campaign's KB when it exists: kb.file (coarsened to kb.delta), or kb/kb.db of `dir`.

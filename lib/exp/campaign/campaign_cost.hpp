@@ -22,9 +22,17 @@ struct RunKindCost {
     double lookup_s = 0;           ///< per evaluation: r_max at full length (shaped kinds)
     bool lookups_unknown = false;  ///< shaped, but the KB does not exist yet
     double other_s = 0;            ///< per generation: diversity, selection, the KB's observations, the file
-    double bytes_per_evaluation = 0;  ///< of the run file
-    double cpu_seconds() const;       ///< one run
-    double bytes() const;             ///< one run's file
+    // the run file, from where the probe run's file keeps its bytes
+    double bytes_fixed = 0;               ///< schema, run row, the latest checkpoint
+    double bytes_per_evaluation = 0;      ///< the `individual` rows
+    double bytes_per_generation = 0;      ///< the kept genomes and the `generation` row
+    double kb_bytes_per_observation = 0;  ///< the KB's segments of the first observation (source runs)
+    int observations = 0;                 ///< generations that observe into the KB, per run
+    double cpu_seconds() const;           ///< one run
+    /// One run's file: fixed + evaluations x per evaluation + generations x per generation +
+    /// observations x the first observation's KB bytes. Every observation after the first adds
+    /// fewer new segments than it (the KB keeps each distinct one once), so that term bounds the KB.
+    double bytes() const;
 };
 
 /// The campaign's cost, as printed by --dry-run: counts, and an estimate
