@@ -214,10 +214,13 @@ std::optional<std::string> Runner::finish(const Active& done, const RunEnd& end)
 }
 
 void Runner::report(const std::vector<Active>& active) {
+    const double now = now_seconds();
+    const bool read_files = executor_.runs_here() && now - last_reading_ >= kReadingPeriod;
+    if (read_files) last_reading_ = now;
     std::uint64_t done = 0;
     std::size_t finished = 0;
     for (auto& state : runs_) {
-        if (state.status == runs::RunStatus::running && executor_.runs_here()) {
+        if (state.status == runs::RunStatus::running && read_files) {
             try {
                 if (auto on_disk = runs::read_run_file(options_.dir / state.run.file)) {
                     state.generations_done = on_disk->generations_done;
