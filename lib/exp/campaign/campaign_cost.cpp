@@ -324,7 +324,7 @@ void write_plan(std::ostream& out, const runs::CampaignConfig& config, const Cam
         << megabytes(cost.bytes) << "\n";
     out << "         (an estimate, not a bound: every evaluation timed at its full length, which policies\n"
            "         that stand still do not reach, lookups timed on random policies' behaviours, and this\n"
-           "         machine's speed as it is now; estimates of the replication were -33 % to +28 % off,\n"
+           "         machine's speed as it is now; estimates of the replication were -35 % to +25 % off,\n"
            "         docs/transfer.md)\n";
     if (unknown) {
         out << "         * the KB is made by the source step: a dry run on the campaign's folder once it\n"
