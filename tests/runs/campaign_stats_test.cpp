@@ -58,9 +58,8 @@ void set_hand_signal(const std::filesystem::path& camp) {
 
 TEST_CASE("stats on a campaign: success counts, quartiles and tests by hand", "[runs][stats][cli]") {
     test::TempDir dir;
-    test::write_file(dir / "c.json", test::tiny_campaign_json(2));
-    REQUIRE(test::run_campaign(dir, "camp", {"--jobs", "2"}).exit_code == 0);
     const auto camp = dir / "camp";
+    test::copy_tiny_campaign(camp, 2);
     set_hand_bests(camp);
     set_hand_signal(camp);
     const auto result =
@@ -116,9 +115,8 @@ TEST_CASE("stats on a campaign: success counts, quartiles and tests by hand", "[
 TEST_CASE("stats --available compares the runs that have reached the generation and lists the others",
           "[runs][stats][cli]") {
     test::TempDir dir;
-    test::write_file(dir / "c.json", test::tiny_campaign_json(2));
-    REQUIRE(test::run_campaign(dir, "camp", {"--jobs", "2"}).exit_code == 0);
     const auto camp = dir / "camp";
+    test::copy_tiny_campaign(camp, 2);
     set_hand_bests(camp);
     // as a running campaign leaves them: one run not started, one at generation 0 of 2
     std::filesystem::remove(camp / "target" / "mo" / "seed-2.db");
@@ -163,9 +161,8 @@ TEST_CASE("stats --available compares the runs that have reached the generation 
 
 TEST_CASE("stats reports a missing, corrupt or unfinished run file", "[runs][stats][cli][errors]") {
     test::TempDir dir;
-    test::write_file(dir / "c.json", test::tiny_campaign_json(2));
-    REQUIRE(test::run_campaign(dir, "camp", {"--jobs", "2"}).exit_code == 0);
     const auto camp = dir / "camp";
+    test::copy_tiny_campaign(camp, 2);
 
     SECTION("threshold outside [0, 1]") {
         const auto result = test::run_cli({"stats", camp.string(), "--threshold", "1.5"});

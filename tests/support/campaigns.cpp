@@ -1,5 +1,8 @@
 #include "support/campaigns.hpp"
 
+#include <memory>
+#include <stdexcept>
+
 #include "db/database.hpp"
 
 namespace stepstone::test {
@@ -32,6 +35,21 @@ CliResult run_campaign(const TempDir& dir, const std::string& name, const std::v
                                   "--quiet"};
     args.insert(args.end(), extra.begin(), extra.end());
     return run_cli(args);
+}
+
+void copy_tiny_campaign(const std::filesystem::path& to, int target_generations) {
+    // one finished campaign per config for the life of the test process (its folder is
+    // removed at exit with the TempDir)
+    static std::map<int, std::unique_ptr<TempDir>> finished;
+    auto& dir = finished[target_generations];
+    if (!dir) {
+        auto made = std::make_unique<TempDir>();
+        write_file(*made / "c.json", tiny_campaign_json(target_generations));
+        const auto result = run_campaign(*made, "camp", {"--jobs", "2"});
+        if (result.exit_code != 0) throw std::runtime_error("the tiny campaign failed: " + result.err);
+        dir = std::move(made);
+    }
+    std::filesystem::copy(*dir / "camp", to, std::filesystem::copy_options::recursive);
 }
 
 std::map<std::int64_t, std::string> finished_digests(const std::filesystem::path& dir) {

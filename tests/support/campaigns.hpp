@@ -24,6 +24,12 @@ std::string tiny_campaign_json(int target_generations, int steps = 200);
 /// `stepstone campaign dir/c.json --dir dir/name --quiet` followed by `extra`.
 CliResult run_campaign(const TempDir& dir, const std::string& name, const std::vector<std::string>& extra);
 
+/// Copies into `to` (which must not exist) the folder of a finished tiny campaign of
+/// `target_generations` (tiny_campaign_json, --jobs 2). The campaign runs once per test
+/// process and config, so the sections of a test case, each of which restarts the case,
+/// damage their own copy instead of running it again. Throws if the campaign fails.
+void copy_tiny_campaign(const std::filesystem::path& to, int target_generations);
+
 /// campaign_run.id -> digest of the runs that campaign.db of `dir` records finished.
 std::map<std::int64_t, std::string> finished_digests(const std::filesystem::path& dir);
 

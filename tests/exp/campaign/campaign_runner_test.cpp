@@ -49,7 +49,7 @@ TEST_CASE(
     "whole",
     "[exp][campaign][cli][resume][signals]") {
     test::TempDir dir;
-    test::write_file(dir / "c.json", test::tiny_campaign_json(60, 1000));
+    test::write_file(dir / "c.json", test::tiny_campaign_json(20, 1000));
     REQUIRE(test::run_campaign(dir, "whole", {"--jobs", "2"}).exit_code == 0);
 
     const auto stopped = dir / "stopped";
