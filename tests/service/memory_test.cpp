@@ -58,7 +58,7 @@ TEST_CASE("a shape body near the body limit costs a few times its size in memory
     CHECK(json::parse(res->body)["matches"].size() == 90000);
     const auto grown = peak_rss(server.pid()) - before;
     CAPTURE(body.size(), grown);
-#if defined(__SANITIZE_ADDRESS__)
+#if defined(STEPSTONE_SANITIZED_BUILD)
     // AddressSanitizer's redzones and quarantine inflate every allocation: the bound is the release build's
     SUCCEED("not bounded under AddressSanitizer");
 #else
