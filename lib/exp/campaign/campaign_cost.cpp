@@ -324,8 +324,8 @@ void write_plan(std::ostream& out, const runs::CampaignConfig& config, const Cam
         << megabytes(cost.bytes) << "\n";
     out << "         (an estimate, not a bound: every evaluation timed at its full length, which policies\n"
            "         that stand still do not reach, lookups timed on random policies' behaviours, and this\n"
-           "         machine's speed as it is now; estimates of the replication were -35 % to +25 % off,\n"
-           "         docs/transfer.md)\n";
+           "         machine's speed as it is now; estimates of the replication were -8 % to +25 % off\n"
+           "         with its KB timed, -41 % and -10 % without, docs/transfer.md)\n";
     if (unknown) {
         out << "         * the KB is made by the source step: a dry run on the campaign's folder once it\n"
                "           holds kb/kb.db, or a config with kb.file, times the lookups\n";
