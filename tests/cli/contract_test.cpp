@@ -45,6 +45,19 @@ TEST_CASE("--help on every level shows an example and exits 0", "[cli][help]") {
     CHECK_THAT(version.out, StartsWith("stepstone "));
 }
 
+TEST_CASE("bench lists its cases, or in a build without it says so in one line", "[cli][bench][errors]") {
+    // the sanitize preset configures STEPSTONE_BENCH=OFF; the ci and release presets build it
+    const auto result = test::run_cli({"bench", "--list"});
+    if (result.exit_code == 0) {
+        CHECK_THAT(result.out, Contains("episode") && Contains("shaped-1.83"));
+    } else {
+        CHECK(result.exit_code == 2);
+        REQUIRE(result.err_lines().size() == 1);
+        CHECK_THAT(result.err_lines()[0], Contains("STEPSTONE_BENCH=OFF"));
+        CHECK(result.out.empty());
+    }
+}
+
 TEST_CASE("db info refuses bad files with exit 1, one line, the file unchanged", "[cli][db][errors]") {
     test::TempDir dir;
     test::write_file(dir / "passwd", test::read_file("/etc/passwd"));
