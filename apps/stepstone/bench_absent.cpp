@@ -15,8 +15,8 @@ void add_bench_absent_command(CLI::App& app) {
                          "build/release/apps/stepstone/stepstone bench --quick"}));
     cmd->callback([] {
         throw ConfigError(
-            "this build has no bench command (configured with STEPSTONE_BENCH=OFF, as the sanitize preset is); "
-            "time with a Release build: cmake --preset release");
+            "this build has no bench command (configured with STEPSTONE_BENCH=OFF, "
+            "as the sanitize preset is); time with a Release build: cmake --preset release");
     });
 }
 
