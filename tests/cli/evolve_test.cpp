@@ -21,15 +21,6 @@ const char* kConfig = R"({
   "seed": 5
 })";
 
-int generations_done(const std::filesystem::path& path) {
-    try {
-        auto connection = db::open_database(path, db::OpenMode::read_only);
-        return static_cast<int>(connection.query_int("SELECT generations_done FROM run").value_or(-1));
-    } catch (const std::exception&) {
-        return -1;  // not created yet
-    }
-}
-
 }  // namespace
 
 TEST_CASE("evolve killed with SIGKILL mid-run resumes to the digest of an uninterrupted run",
@@ -41,8 +32,8 @@ TEST_CASE("evolve killed with SIGKILL mid-run resumes to the digest of an uninte
     // wait until a few generations are committed, then kill without warning
     test::run_cli_killed_when({"evolve", "--config", (dir / "c.json").string(), "--db", killed.string(),
                                "--threads", "2", "--quiet"},
-                              [&] { return generations_done(killed) >= 3; });
-    const int done_at_kill = generations_done(killed);
+                              [&] { return test::generations_done(killed) >= 3; });
+    const int done_at_kill = test::generations_done(killed);
     INFO("generations committed when killed: " << done_at_kill);
     CHECK(done_at_kill >= 3);
     CHECK(done_at_kill < 30);

@@ -42,15 +42,6 @@ const char* kTinyTargetConfig = R"({
   "seed": 3
 })";
 
-int generations_done(const fs::path& path) {
-    try {
-        auto connection = db::open_database(path, db::OpenMode::read_only);
-        return static_cast<int>(connection.query_int("SELECT generations_done FROM run").value_or(-1));
-    } catch (const std::exception&) {
-        return -1;  // not created yet
-    }
-}
-
 // exit `code`, exactly one stderr line "stepstone: error: ..." holding `needle`, nothing on stdout
 void check_refused(const test::CliResult& result, int code, const std::string& needle) {
     INFO(result.err);
@@ -75,7 +66,7 @@ TEST_CASE(
     test::CliResult second, migrate;
     double seconds = 0;
     const auto first = test::run_cli_signalled_when(
-        args, [&] { return generations_done(run) >= 2; },
+        args, [&] { return test::generations_done(run) >= 2; },
         [&] {
             auto resume = args;
             resume.push_back("--resume");
@@ -100,7 +91,7 @@ TEST_CASE(
     CHECK_FALSE(fs::exists(run.string() + "-wal"));
     CHECK_FALSE(fs::exists(run.string() + "-shm"));
     CHECK_FALSE(fs::exists(run.string() + ".lock"));
-    const int done = generations_done(run);
+    const int done = test::generations_done(run);
     CHECK(done >= 2);
     CHECK(done < 40);
 
@@ -126,12 +117,12 @@ TEST_CASE("SIGTERM stops evolve like Ctrl-C", "[cli][harden][interrupt]") {
     double seconds = 0;
     const auto result = test::run_cli_signalled_when(
         {"evolve", "--config", (dir / "c.json").string(), "--db", run.string(), "--threads", "1", "--quiet"},
-        [&] { return generations_done(run) >= 1; }, nullptr, SIGTERM, &seconds);
+        [&] { return test::generations_done(run) >= 1; }, nullptr, SIGTERM, &seconds);
     CHECK(result.exit_code == 130);
     CHECK_THAT(result.err, Contains("--resume"));
     CHECK(seconds < 1.5);
     CHECK_FALSE(fs::exists(run.string() + "-wal"));
-    CHECK(generations_done(run) >= 1);
+    CHECK(test::generations_done(run) >= 1);
 }
 
 TEST_CASE("a file given as --dir is a usage error (exit 2), not an internal one, and is left unchanged",

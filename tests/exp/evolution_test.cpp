@@ -188,7 +188,7 @@ double oracle_r_max(const kb::KnowledgeBase& base, const std::vector<float>& beh
     const std::size_t dim = base.params().dim();
     double r_max = 0.0;
     for (std::size_t s = 0; (s + 1) * dim <= behaviour.size(); ++s) {
-        const auto nearest = ::kbtest::oracle_nearest(values, dim, behaviour.data() + s * dim);
+        const auto nearest = kboracle::oracle_nearest(values, dim, behaviour.data() + s * dim);
         REQUIRE(nearest);
         r_max = std::max(r_max, base.record(nearest->first).average());
     }

@@ -19,7 +19,7 @@ TEST_CASE("a reward beyond the bound is refused before anything changes, and sum
           "[kb][errors][bounds]") {
     // 9.2e18 (the largest count a database holds) x the bound is below DBL_MAX: no sum can overflow
     CHECK(9.3e18 * kb::kMaxRewardMagnitude < DBL_MAX);
-    kb::KnowledgeBase kb(kbtest::params_of(2, 2, 1.0));
+    kb::KnowledgeBase kb(kboracle::params_of(2, 2, 1.0));
     const std::uint32_t src = kb.add_source("run");
     const std::vector<float> twice{0, 0, 0, 0, 0, 0, 0, 0};  // one segment, repeated: one record, count 2
     kb.observe(kb::Segments{twice, 4}, kb::kMaxRewardMagnitude, {src, 0});
@@ -37,7 +37,7 @@ TEST_CASE("a reward beyond the bound is refused before anything changes, and sum
 
 TEST_CASE("a loaded record whose cum_reward no valid rewards reach is refused, naming it",
           "[kb][errors][bounds]") {
-    const auto params = kbtest::params_of(2, 2, 1.0);
+    const auto params = kboracle::params_of(2, 2, 1.0);
     const std::vector<float> values{0, 0, 0, 0, 5, 5, 5, 5};
     std::vector<kb::SegmentRecord> records{{1.0, 1, {0, 0}, {0, 0}}, {3e289, 2, {0, 0}, {0, 0}}};
     const std::vector<kb::Source> sources{{"run", 0, 0, 1}};
@@ -72,10 +72,10 @@ TEST_CASE("run names: 1 to 256 bytes of UTF-8 without control characters", "[kb]
         CHECK_THROWS_WITH(kb::check_run_name(name, "name"), Contains(message));
     }
     // the KB applies it to every source it registers or loads
-    kb::KnowledgeBase kb(kbtest::params_of(2, 2, 1.0));
+    kb::KnowledgeBase kb(kboracle::params_of(2, 2, 1.0));
     CHECK_THROWS_WITH(kb.add_source(std::string("a\0b", 3)), Contains("control character"));
     CHECK(kb.sources().empty());
     const std::vector<kb::Source> sources{{std::string(300, 'r'), 0, 0, 0}};
-    CHECK_THROWS_WITH(kb::KnowledgeBase::from_segments(kbtest::params_of(2, 2, 1.0), sources, {}, {}),
+    CHECK_THROWS_WITH(kb::KnowledgeBase::from_segments(kboracle::params_of(2, 2, 1.0), sources, {}, {}),
                       Contains("source 0's run name has 300 bytes"));
 }

@@ -14,11 +14,11 @@ using Catch::Matchers::Contains;
 
 namespace {
 
-using kbtest::params_of;
+using kboracle::params_of;
 
 // observes `policies` policies of `per_policy` segments into both KBs and
 // requires identical contents after every policy
-void observe_both(kb::KnowledgeBase& kb, kbtest::OracleKb& oracle, const std::vector<float>& data,
+void observe_both(kb::KnowledgeBase& kb, kboracle::OracleKb& oracle, const std::vector<float>& data,
                   std::size_t per_policy, Rng& rewards) {
     const std::size_t dim = oracle.dim;
     const std::size_t policies = data.size() / dim / per_policy;
@@ -39,7 +39,8 @@ void observe_both(kb::KnowledgeBase& kb, kbtest::OracleKb& oracle, const std::ve
 }
 
 // lookups of `queries` under both rules against the oracle's linear scan
-void check_lookups(const kb::KnowledgeBase& kb, const kbtest::OracleKb& oracle, const std::vector<float>& queries) {
+void check_lookups(const kb::KnowledgeBase& kb, const kboracle::OracleKb& oracle,
+                   const std::vector<float>& queries) {
     const std::size_t dim = oracle.dim;
     kb::KbParams nearest_params = kb.params();
     nearest_params.match = kb::Match::nearest;
@@ -53,7 +54,7 @@ void check_lookups(const kb::KnowledgeBase& kb, const kbtest::OracleKb& oracle, 
     for (std::size_t i = 0; i * dim < queries.size(); ++i) {
         const float* q = queries.data() + i * dim;
         const auto expect_within = oracle.within(q);
-        const auto expect_nearest = kbtest::oracle_nearest(oracle.values, dim, q);
+        const auto expect_nearest = kboracle::oracle_nearest(oracle.values, dim, q);
         REQUIRE(within.segments[i].id.has_value() == expect_within.has_value());
         if (expect_within) {
             REQUIRE(*within.segments[i].id == expect_within->first);
@@ -108,13 +109,14 @@ TEST_CASE("observe and lookup equal a linear-scan oracle on random and clustered
             CAPTURE(dim, kind);
             Rng rng(17 + dim, static_cast<std::uint64_t>(kind), 0, Purpose::test);
             const std::size_t n = dim >= 60 ? 1200 : 2000;
-            const std::vector<float> data = kind == 0 ? kbtest::uniform_segments(rng, n, dim)
-                                                      : kbtest::clustered_segments(rng, n, dim, 12, 0.3);
+            const std::vector<float> data = kind == 0 ? kboracle::uniform_segments(rng, n, dim)
+                                                      : kboracle::clustered_segments(rng, n, dim, 12, 0.3);
             kb::KnowledgeBase kb(params_of(shape.width, shape.channels, delta));
-            kbtest::OracleKb oracle{dim, delta, {}, {}, {}};
+            kboracle::OracleKb oracle{dim, delta, {}, {}, {}};
             observe_both(kb, oracle, data, 20, rng);
-            const std::vector<float> queries = kind == 0 ? kbtest::uniform_segments(rng, 150, dim)
-                                                         : kbtest::clustered_segments(rng, 150, dim, 12, 0.4);
+            const std::vector<float> queries = kind == 0
+                                                   ? kboracle::uniform_segments(rng, 150, dim)
+                                                   : kboracle::clustered_segments(rng, 150, dim, 12, 0.4);
             check_lookups(kb, oracle, queries);
         }
     }
@@ -127,11 +129,11 @@ TEST_CASE("ties and distances exactly at delta follow the documented rule", "[kb
     for (std::size_t dim : {2u, 3u, 8u}) {
         CAPTURE(dim);
         Rng rng(5, dim, 0, Purpose::test);
-        const std::vector<float> data = kbtest::grid_segments(rng, 600, dim, 4);
+        const std::vector<float> data = kboracle::grid_segments(rng, 600, dim, 4);
         kb::KnowledgeBase kb(params_of(1, dim, 0.5));
-        kbtest::OracleKb oracle{dim, 0.5, {}, {}, {}};
+        kboracle::OracleKb oracle{dim, 0.5, {}, {}, {}};
         observe_both(kb, oracle, data, 10, rng);
-        check_lookups(kb, oracle, kbtest::grid_segments(rng, 200, dim, 5));
+        check_lookups(kb, oracle, kboracle::grid_segments(rng, 200, dim, 5));
     }
 }
 
@@ -146,9 +148,9 @@ TEST_CASE("a policy that repeats segments gets every repeat matched as the oracl
         const double delta = 0.35 * std::sqrt(static_cast<double>(dim));
         Rng rng(23, n, 0, Purpose::test);
         kb::KnowledgeBase kb(params_of(4, 15, delta));
-        kbtest::OracleKb oracle{dim, delta, {}, {}, {}};
-        observe_both(kb, oracle, kbtest::clustered_segments(rng, n, dim, 12, 0.3), 4, rng);
-        const std::vector<float> distinct = kbtest::clustered_segments(rng, 30, dim, 12, 0.4);
+        kboracle::OracleKb oracle{dim, delta, {}, {}, {}};
+        observe_both(kb, oracle, kboracle::clustered_segments(rng, n, dim, 12, 0.3), 4, rng);
+        const std::vector<float> distinct = kboracle::clustered_segments(rng, 30, dim, 12, 0.4);
         std::vector<float> queries;
         for (const std::size_t i : {0u, 1u, 1u, 2u, 0u, 3u, 29u, 1u, 3u, 3u, 17u, 0u}) {
             queries.insert(queries.end(), distinct.begin() + i * dim, distinct.begin() + (i + 1) * dim);
@@ -273,7 +275,7 @@ TEST_CASE("a lookup names the first segment with a NaN or infinity on every sear
     // same message, for the first bad segment and its first bad position
     Rng rng(31, 0, 0, Purpose::test);
     const std::size_t dim = 60;
-    const std::vector<float> data = kbtest::clustered_segments(rng, 1500, dim, 20, 0.3);
+    const std::vector<float> data = kboracle::clustered_segments(rng, 1500, dim, 20, 0.3);
     std::vector<kb::SegmentRecord> records(1500, kb::SegmentRecord{1.0, 1, {}, {}});
     const std::vector<kb::Source> sources{kb::Source{"run", 0, 0, 1}};
     const kb::KnowledgeBase tree = kb::KnowledgeBase::from_segments(params_of(4, 15, 2.0), sources, data, records);
@@ -289,7 +291,7 @@ TEST_CASE("a lookup names the first segment with a NaN or infinity on every sear
     const kb::KnowledgeBase nearest =
         kb::KnowledgeBase::from_segments(params_of(4, 15, 2.0, kb::Match::nearest), sources, data, records);
 
-    std::vector<float> queries = kbtest::clustered_segments(rng, 200, dim, 20, 0.4);
+    std::vector<float> queries = kboracle::clustered_segments(rng, 200, dim, 20, 0.4);
     REQUIRE_NOTHROW(tree.lookup(kb::Segments{queries, dim}));
     queries[57 * dim + 13] = std::nanf("");
     queries[57 * dim + 40] = HUGE_VALF;
@@ -332,7 +334,7 @@ TEST_CASE("provenance records the first and last observation of each segment and
 TEST_CASE("a KB rebuilt from its arrays answers every lookup identically", "[kb][load]") {
     Rng rng(99, 0, 0, Purpose::test);
     const std::size_t dim = 60;
-    const std::vector<float> data = kbtest::clustered_segments(rng, 1500, dim, 20, 0.3);
+    const std::vector<float> data = kboracle::clustered_segments(rng, 1500, dim, 20, 0.3);
     kb::KnowledgeBase kb(params_of(4, 15, 2.0));
     const std::uint32_t src = kb.add_source("run");
     for (std::size_t p = 0; p < 75; ++p)
@@ -342,7 +344,7 @@ TEST_CASE("a KB rebuilt from its arrays answers every lookup identically", "[kb]
     std::vector<kb::Source> sources(kb.sources().begin(), kb.sources().end());
     const kb::KnowledgeBase loaded = kb::KnowledgeBase::from_segments(kb.params(), sources, kb.values(), records);
     const kb::KnowledgeBase copied = kb;
-    const std::vector<float> queries = kbtest::clustered_segments(rng, 300, dim, 20, 0.4);
+    const std::vector<float> queries = kboracle::clustered_segments(rng, 300, dim, 20, 0.4);
     const kb::Lookup a = kb.lookup(kb::Segments{queries, dim});
     for (const kb::KnowledgeBase* other : {&loaded, &copied}) {
         const kb::Lookup b = other->lookup(kb::Segments{queries, dim});

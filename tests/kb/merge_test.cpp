@@ -13,7 +13,7 @@ using Catch::Matchers::Contains;
 
 namespace {
 
-using kbtest::params_of;
+using kboracle::params_of;
 
 kb::KnowledgeBase from_values(const kb::KbParams& p, const std::string& run, std::vector<float> values,
                               std::vector<kb::SegmentRecord> records) {
@@ -83,7 +83,7 @@ TEST_CASE("merging A with B then C equals the paper's rule applied to the same o
     // the merge must give what observing all three runs in order gives
     Rng rng(12, 0, 0, Purpose::test);
     const std::size_t dim = 30;
-    std::vector<float> centres = kbtest::uniform_segments(rng, 25, dim);
+    std::vector<float> centres = kboracle::uniform_segments(rng, 25, dim);
     for (float& v : centres) v *= 20.0f;
     const kb::KbParams p = params_of(10, 3, 0.5);
     const Observations oa = make_observations(rng, dim, centres, 40);
@@ -94,7 +94,7 @@ TEST_CASE("merging A with B then C equals the paper's rule applied to the same o
     merged.merge(observed(p, "b", ob));
     merged.merge(observed(p, "c", oc));
 
-    kbtest::OracleKb oracle{dim, 0.5, {}, {}, {}};
+    kboracle::OracleKb oracle{dim, 0.5, {}, {}, {}};
     for (const Observations* o : {&oa, &ob, &oc})
         for (std::size_t i = 0; i < o->policies.size(); ++i) oracle.observe(o->policies[i], o->rewards[i]);
 
@@ -118,15 +118,15 @@ TEST_CASE("merging in the order given is the paper's rule applied to B's segment
     const kb::KbParams p = params_of(3, 15, 1.6);
     Observations oa, ob;
     for (int i = 0; i < 30; ++i) {
-        oa.policies.push_back(kbtest::clustered_segments(rng, 20, dim, 15, 0.3));
+        oa.policies.push_back(kboracle::clustered_segments(rng, 20, dim, 15, 0.3));
         oa.rewards.push_back(rng.uniform());
-        ob.policies.push_back(kbtest::clustered_segments(rng, 20, dim, 15, 0.3));
+        ob.policies.push_back(kboracle::clustered_segments(rng, 20, dim, 15, 0.3));
         ob.rewards.push_back(rng.uniform());
     }
     kb::KnowledgeBase a = observed(p, "a", oa);
     const kb::KnowledgeBase b = observed(p, "b", ob);
 
-    kbtest::OracleKb oracle{dim, 1.6, std::vector<float>(a.values().begin(), a.values().end()), {}, {}};
+    kboracle::OracleKb oracle{dim, 1.6, std::vector<float>(a.values().begin(), a.values().end()), {}, {}};
     for (const auto& r : a.records()) {
         oracle.cum_reward.push_back(r.cum_reward);
         oracle.count.push_back(r.count);

@@ -13,7 +13,7 @@
 #include "core/rng.hpp"
 #include "kb/knowledge_base.hpp"
 
-namespace kbtest {
+namespace kboracle {
 
 /// KB parameters of segments of `width` x `channels` values matched within `delta` (or by `match`).
 inline stepstone::kb::KbParams params_of(std::size_t width, std::size_t channels, double delta,
@@ -138,4 +138,4 @@ inline std::vector<float> binary_segments(stepstone::Rng& rng, std::size_t n, st
     return v;
 }
 
-}  // namespace kbtest
+}  // namespace kboracle

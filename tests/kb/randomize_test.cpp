@@ -19,7 +19,7 @@ kb::KnowledgeBase sample_kb() {
     kb::KnowledgeBase kb(p);
     const std::uint32_t src = kb.add_source("run");
     for (int i = 0; i < 20; ++i) {
-        const std::vector<float> segs = kbtest::clustered_segments(rng, 10, 12, 30, 0.2);
+        const std::vector<float> segs = kboracle::clustered_segments(rng, 10, 12, 30, 0.2);
         kb.observe(kb::Segments{segs, 12}, 3.0 * rng.uniform(), {src, i});
     }
     return kb;

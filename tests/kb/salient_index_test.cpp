@@ -13,7 +13,7 @@ using namespace stepstone;
 
 namespace {
 
-using kbtest::params_of;
+using kboracle::params_of;
 
 // r_max by linear scan, straight from the definition: each query's nearest KB
 // segment (lowest id on ties), within delta unless `nearest`, gives its
@@ -22,7 +22,7 @@ double oracle_r_max(const std::vector<float>& values, const std::vector<kb::Segm
                     std::size_t dim, double delta, bool nearest, const std::vector<float>& queries) {
     double r_max = 0.0;
     for (std::size_t i = 0; i * dim < queries.size(); ++i) {
-        const auto best = kbtest::oracle_nearest(values, dim, queries.data() + i * dim);
+        const auto best = kboracle::oracle_nearest(values, dim, queries.data() + i * dim);
         double reward = 0.0;
         if (best && (nearest || best->second < delta * delta)) reward = records[best->first].average();
         r_max = i == 0 ? reward : std::max(r_max, reward);
@@ -75,7 +75,7 @@ TEST_CASE("r_max through the positive segments equals a linear scan on zero-heav
     const std::vector<kb::Source> sources{{"run", 0, 9, 100}};
     for (const std::uint64_t seed : {1u, 2u, 3u}) {
         Rng rng(seed, 0, 0, Purpose::test);
-        const auto values = kbtest::clustered_segments(rng, 3000, dim, 40, 0.2);
+        const auto values = kboracle::clustered_segments(rng, 3000, dim, 40, 0.2);
         const auto records = zero_heavy_records(rng, 3000, 0.15);
         // a small delta (few candidates: one band) and a large one (bands)
         for (const double delta : {0.3, 0.9}) {
@@ -97,7 +97,7 @@ TEST_CASE("r_max through signature scans equals a linear scan on KBs with binary
     const std::vector<kb::Source> sources{{"run", 0, 9, 100}};
     for (const std::uint64_t seed : {1u, 2u}) {
         Rng rng(seed, 0, 0, Purpose::test);
-        const auto values = kbtest::binary_segments(rng, 2500, width, channels, binary, 60, 0.02, 0.04);
+        const auto values = kboracle::binary_segments(rng, 2500, width, channels, binary, 60, 0.02, 0.04);
         const auto records = zero_heavy_records(rng, 2500, 0.2);
         for (const double delta : {1.0, 1.83, 3.84}) {
             for (const kb::Match match : {kb::Match::within_delta, kb::Match::nearest}) {
@@ -137,7 +137,7 @@ TEST_CASE("signature scans serve KBs of at most 4,096 positive segments, trees t
           "[kb][salient]") {
     const std::size_t width = 20, channels = 6;
     Rng rng(4, 0, 0, Purpose::test);
-    const auto values = kbtest::binary_segments(rng, 9000, width, channels, {0, 3, 4}, 60, 0.02, 0.04);
+    const auto values = kboracle::binary_segments(rng, 9000, width, channels, {0, 3, 4}, 60, 0.02, 0.04);
     std::vector<kb::SegmentRecord> records(9000, kb::SegmentRecord{0.0, 1, {0, 0}, {0, 0}});
     for (std::size_t i = 0; i < 4096; ++i) records[i].cum_reward = 0.5;
     CHECK(kb::SalientIndex::build(width, channels, 1.83, values, records)->scans());
@@ -150,7 +150,7 @@ TEST_CASE("signature scans serve KBs of at most 4,096 positive segments, trees t
 TEST_CASE("the positive segments are cut into bands only when searches check many of them", "[kb][salient]") {
     const std::size_t dim = 12;
     Rng rng(7, 0, 0, Purpose::test);
-    const auto values = kbtest::clustered_segments(rng, 4000, dim, 20, 0.2);
+    const auto values = kboracle::clustered_segments(rng, 4000, dim, 20, 0.2);
     const auto records = zero_heavy_records(rng, 4000, 0.3);
     const auto tight = kb::SalientIndex::build(3, 4, 0.05, values, records);
     const auto wide = kb::SalientIndex::build(3, 4, 2.0, values, records);

@@ -22,7 +22,7 @@ namespace {
 // the nearest with squared distance < r^2, by linear scan (ties: lowest id)
 std::optional<std::pair<std::size_t, double>> oracle_within(const std::vector<float>& values, std::size_t dim,
                                                             const float* q, double r) {
-    auto best = kbtest::oracle_nearest(values, dim, q);
+    auto best = kboracle::oracle_nearest(values, dim, q);
     if (best && best->second < r * r) return best;
     return std::nullopt;
 }
@@ -56,7 +56,7 @@ void check_queries(kb::SegmentIndex& index, const std::vector<float>& values, co
             REQUIRE(got_adaptive->id == expect->first);
         }
         const auto nearest = index.nearest(values, q);
-        const auto expect_nearest = kbtest::oracle_nearest(values, dim, q);
+        const auto expect_nearest = kboracle::oracle_nearest(values, dim, q);
         REQUIRE(nearest.has_value() == expect_nearest.has_value());
         if (expect_nearest) {
             REQUIRE(nearest->id == expect_nearest->first);
@@ -109,7 +109,7 @@ TEST_CASE("block means never exceed the distance, and more blocks bound it more 
     for (const Shape s : {Shape{20, 15}, Shape{7, 3}, Shape{1, 4}, Shape{13, 1}}) {
         const std::size_t dim = s.width * s.channels;
         CAPTURE(s.width, s.channels);
-        const std::vector<float> v = kbtest::uniform_segments(rng, 400, dim);
+        const std::vector<float> v = kboracle::uniform_segments(rng, 400, dim);
         for (std::size_t blocks : {1u, 2u, 3u, 5u, 20u}) {
             const kb::BlockMeans means(s.width, s.channels, blocks);
             CHECK(means.blocks() == std::min<std::size_t>(blocks, s.width));
@@ -248,7 +248,7 @@ TEST_CASE("the index equals a linear scan on behaviour-like data, bulk-built and
     const std::size_t width = 20, channels = 15, dim = width * channels;
     const std::vector<float> data = behaviour_segments(rng, 2600, width, channels);
     std::vector<float> queries = behaviour_segments(rng, 30, width, channels);
-    const std::vector<float> far = kbtest::uniform_segments(rng, 5, dim);
+    const std::vector<float> far = kboracle::uniform_segments(rng, 5, dim);
     queries.insert(queries.end(), far.begin(), far.end());
     for (const double radius : {0.8, 1.83, 3.0}) {
         CAPTURE(radius);
@@ -272,12 +272,12 @@ TEST_CASE("the index equals a linear scan on behaviour-like data, bulk-built and
 TEST_CASE("values too large for float bounds send the index to brute force, still exact", "[kb][index]") {
     Rng rng(15, 0, 0, Purpose::test);
     const std::size_t width = 4, channels = 3, dim = width * channels;
-    std::vector<float> values = kbtest::clustered_segments(rng, 300, dim, 10, 0.1);
+    std::vector<float> values = kboracle::clustered_segments(rng, 300, dim, 10, 0.1);
     for (std::size_t k = 0; k < dim; ++k) values[150 * dim + k] = 1e30f;
     kb::SegmentIndex index(width, channels);
     for (std::size_t i = 0; i < 300; ++i) index.append(values.data() + i * dim);
     CHECK(index.brute_force());
-    const std::vector<float> queries = kbtest::clustered_segments(rng, 10, dim, 10, 0.1);
+    const std::vector<float> queries = kboracle::clustered_segments(rng, 10, dim, 10, 0.1);
     check_queries(index, values, queries, 0.5);
 }
 
@@ -285,8 +285,8 @@ TEST_CASE("the distance follows the documented lane order", "[kb][distance]") {
     // the oracle writes the documented order as a plain loop
     Rng rng(3, 0, 0, Purpose::test);
     for (std::size_t dim : {1u, 2u, 7u, 8u, 9u, 31u, 32u, 33u, 300u}) {
-        const std::vector<float> v = kbtest::uniform_segments(rng, 2, dim);
-        const double expect = kbtest::oracle_squared_distance(v.data(), v.data() + dim, dim);
+        const std::vector<float> v = kboracle::uniform_segments(rng, 2, dim);
+        const double expect = kboracle::oracle_squared_distance(v.data(), v.data() + dim, dim);
         CHECK(kb::squared_distance(v.data(), v.data() + dim, dim) == expect);
         // with a bound above the distance the value is exact, below it the result exceeds the bound
         CHECK(kb::squared_distance_up_to(v.data(), v.data() + dim, dim, expect) == expect);
@@ -311,14 +311,14 @@ TEST_CASE("the index equals a linear scan after many inserts and rebuilds", "[kb
         CAPTURE(dim, s.kind);
         Rng rng(41, dim, static_cast<std::uint64_t>(s.kind), Purpose::test);
         const std::size_t n = dim >= 300 ? 1500 : 3000;
-        const std::vector<float> data = s.kind == 0   ? kbtest::uniform_segments(rng, n, dim)
-                                        : s.kind == 1 ? kbtest::clustered_segments(rng, n, dim, 30, 0.2)
-                                                      : kbtest::grid_segments(rng, n, dim, 3);
+        const std::vector<float> data = s.kind == 0   ? kboracle::uniform_segments(rng, n, dim)
+                                        : s.kind == 1 ? kboracle::clustered_segments(rng, n, dim, 30, 0.2)
+                                                      : kboracle::grid_segments(rng, n, dim, 3);
         kb::SegmentIndex index(s.width, s.channels);
         std::vector<float> values;
-        const std::vector<float> queries = s.kind == 0   ? kbtest::uniform_segments(rng, 12, dim)
-                                           : s.kind == 1 ? kbtest::clustered_segments(rng, 12, dim, 30, 0.3)
-                                                         : kbtest::grid_segments(rng, 12, dim, 3);
+        const std::vector<float> queries = s.kind == 0   ? kboracle::uniform_segments(rng, 12, dim)
+                                           : s.kind == 1 ? kboracle::clustered_segments(rng, 12, dim, 30, 0.3)
+                                                         : kboracle::grid_segments(rng, 12, dim, 3);
         for (std::size_t i = 0; i < n; ++i) {
             values.insert(values.end(), data.begin() + static_cast<std::ptrdiff_t>(i * dim),
                           data.begin() + static_cast<std::ptrdiff_t>((i + 1) * dim));
@@ -342,15 +342,15 @@ TEST_CASE("the index falls back to brute force when the lower bounds prune nothi
     // KB passes the lower bound for a radius of 7 (typical distances ~7)
     Rng rng(8, 0, 0, Purpose::test);
     const std::size_t dim = 300;
-    const std::vector<float> values = kbtest::uniform_segments(rng, 800, dim);
+    const std::vector<float> values = kboracle::uniform_segments(rng, 800, dim);
     kb::SegmentIndex index(20, 15);
     index.assign(values);
-    const std::vector<float> queries = kbtest::uniform_segments(rng, 200, dim);
+    const std::vector<float> queries = kboracle::uniform_segments(rng, 200, dim);
     for (std::size_t i = 0; i < 200; ++i) index.nearest_within_adaptive(values, queries.data() + i * dim, 7.0);
     CHECK(index.brute_force());
     CHECK(index.stats().linear_queries > 0);
     // clustered data with a small radius stays on the trees
-    const std::vector<float> clustered = kbtest::clustered_segments(rng, 800, dim, 40, 0.05);
+    const std::vector<float> clustered = kboracle::clustered_segments(rng, 800, dim, 40, 0.05);
     kb::SegmentIndex tree(20, 15);
     tree.assign(clustered);
     for (std::size_t i = 0; i < 200; ++i) tree.nearest_within_adaptive(clustered, clustered.data() + i * dim, 1.0);

@@ -29,7 +29,7 @@ std::optional<std::pair<std::size_t, double>> oracle(const std::vector<float>& v
                                                      const float* query, double radius_sq, double worst) {
     std::optional<std::pair<std::size_t, double>> best;
     for (std::size_t k = 0; k * dim < values.size(); ++k) {
-        const double d2 = kbtest::oracle_squared_distance(query, values.data() + k * dim, dim);
+        const double d2 = kboracle::oracle_squared_distance(query, values.data() + k * dim, dim);
         if (d2 < radius_sq && d2 <= worst && (!best || d2 < best->second)) best = std::make_pair(k, d2);
     }
     return best;
@@ -91,10 +91,10 @@ TEST_CASE("a scan answers as a linear scan on behaviour-like segments", "[kb][si
     const std::vector<std::size_t> binary{1, 2, 4};
     for (const std::uint64_t seed : {1u, 2u}) {
         Rng rng(seed, 0, 0, Purpose::test);
-        const auto values = kbtest::binary_segments(rng, 700, width, channels, binary, 30, 0.02, 0.05);
+        const auto values = kboracle::binary_segments(rng, 700, width, channels, binary, 30, 0.02, 0.05);
         REQUIRE(kb::SignatureScan::binary_channels(values, width, channels) == binary);
         const auto scan = scan_of(values, width, channels, binary);
-        const auto queries = kbtest::binary_segments(rng, 60, width, channels, binary, 30, 0.03, 0.08);
+        const auto queries = kboracle::binary_segments(rng, 60, width, channels, binary, 30, 0.03, 0.08);
         for (std::size_t i = 0; i < 60; ++i) {
             const float* q = queries.data() + i * dim;
             for (const double radius : {0.5, 1.83, 3.84, 8.0})
@@ -114,7 +114,7 @@ TEST_CASE("a scan keeps the lowest index among equal distances", "[kb][signature
     const std::vector<std::size_t> binary{1, 2, 4};
     Rng rng(5, 0, 0, Purpose::test);
     // every segment three times, the copies 40 and 80 places later
-    auto values = kbtest::binary_segments(rng, 40, width, channels, binary, 5, 0.05, 0.05);
+    auto values = kboracle::binary_segments(rng, 40, width, channels, binary, 5, 0.05, 0.05);
     const std::vector<float> once = values;
     values.insert(values.end(), once.begin(), once.end());
     values.insert(values.end(), once.begin(), once.end());
@@ -140,9 +140,9 @@ TEST_CASE("a query with other values in a binary channel is answered exactly wit
     const std::size_t width = 20, channels = 6, dim = width * channels;
     const std::vector<std::size_t> binary{1, 2, 4};
     Rng rng(9, 0, 0, Purpose::test);
-    const auto values = kbtest::binary_segments(rng, 500, width, channels, binary, 20, 0.02, 0.05);
+    const auto values = kboracle::binary_segments(rng, 500, width, channels, binary, 20, 0.02, 0.05);
     const auto scan = scan_of(values, width, channels, binary);
-    auto queries = kbtest::binary_segments(rng, 30, width, channels, binary, 20, 0.02, 0.05);
+    auto queries = kboracle::binary_segments(rng, 30, width, channels, binary, 20, 0.02, 0.05);
     for (std::size_t i = 0; i < 30; ++i) {
         float* q = queries.data() + i * dim;
         q[(i % width) * channels + binary[i % 3]] = 0.4f;  // one value off {0, 1}
@@ -158,18 +158,18 @@ TEST_CASE("a scan stays exact without counts, without binary channels and at lar
     SECTION("64 rows x 4 binary channels: the counts' L1 could pass 255, the counts' stage is off") {
         const std::size_t width = 64, channels = 5;
         const std::vector<std::size_t> binary{0, 1, 2, 3};
-        const auto values = kbtest::binary_segments(rng, 300, width, channels, binary, 10, 0.02, 0.05);
+        const auto values = kboracle::binary_segments(rng, 300, width, channels, binary, 10, 0.02, 0.05);
         const auto scan = scan_of(values, width, channels, binary);
         CHECK(scan.bytes_per_segment() == 4 * sizeof(std::uint64_t) + 16 * sizeof(float));
-        const auto queries = kbtest::binary_segments(rng, 20, width, channels, binary, 10, 0.03, 0.05);
+        const auto queries = kboracle::binary_segments(rng, 20, width, channels, binary, 10, 0.03, 0.05);
         for (std::size_t i = 0; i < 20; ++i)
             for (const double r2 : {2.0, 9.0, 30.0, kInf})
                 require_same(scan, values, queries.data() + i * width * channels, r2, kInf);
     }
     SECTION("no binary channel: the block sums alone") {
-        const auto values = kbtest::clustered_segments(rng, 400, 3 * 4, 10, 0.3);
+        const auto values = kboracle::clustered_segments(rng, 400, 3 * 4, 10, 0.3);
         const auto scan = scan_of(values, 3, 4, {});
-        const auto queries = kbtest::clustered_segments(rng, 20, 3 * 4, 10, 0.4);
+        const auto queries = kboracle::clustered_segments(rng, 20, 3 * 4, 10, 0.4);
         for (std::size_t i = 0; i < 20; ++i)
             for (const double r2 : {0.1, 1.0, kInf})
                 require_same(scan, values, queries.data() + i * 12, r2, kInf);
@@ -177,7 +177,7 @@ TEST_CASE("a scan stays exact without counts, without binary channels and at lar
     SECTION("continuous values near 1e20 and beyond 1e30") {
         const std::size_t width = 8, channels = 3;
         for (const double scale : {1e20, 1e33}) {
-            auto values = kbtest::binary_segments(rng, 200, width, channels, {1}, 10, 0.05, 0.05);
+            auto values = kboracle::binary_segments(rng, 200, width, channels, {1}, 10, 0.05, 0.05);
             for (std::size_t i = 0; i < values.size(); ++i)
                 if (i % channels != 1) values[i] = static_cast<float>(values[i] * scale);
             const auto scan = scan_of(values, width, channels, {1});
@@ -211,7 +211,7 @@ TEST_CASE("the block sums' bound allows for their rounding to float", "[kb][sign
             query[r * 2 + 1] = static_cast<float>(static_cast<double>(segment[r * 2 + 1]) + step);
         }
         const auto scan = scan_of(segment, 4, 2, {0});
-        const double d2 = kbtest::oracle_squared_distance(query.data(), segment.data(), 8);
+        const double d2 = kboracle::oracle_squared_distance(query.data(), segment.data(), 8);
         const auto near =
             scan.nearest(scan.prepare(query.data(), 1)[0], segment.data(), std::nextafter(d2, kInf), kInf);
         REQUIRE(near);

@@ -16,17 +16,13 @@
 
 using namespace stepstone;
 using Catch::Matchers::Contains;
+using stepstone::reporttest::rgb;
 using stepstone::test::run_cli;
 using stepstone::test::TempDir;
 
 namespace {
 
 const std::filesystem::path kArenas = std::filesystem::path(STEPSTONE_SOURCE_DIR) / "examples" / "arenas";
-
-reporttest::Rgb rgb(report::Colour c) {
-    return {static_cast<int>(std::lround(c.r * 255)), static_cast<int>(std::lround(c.g * 255)),
-            static_cast<int>(std::lround(c.b * 255))};
-}
 
 }  // namespace
 

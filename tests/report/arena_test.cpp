@@ -12,13 +12,9 @@
 using namespace stepstone;
 using namespace stepstone::report;
 using reporttest::Rgb;
+using reporttest::rgb;
 
 namespace {
-
-Rgb rgb(Colour c) {
-    return {static_cast<int>(std::lround(c.r * 255)), static_cast<int>(std::lround(c.g * 255)),
-            static_cast<int>(std::lround(c.b * 255))};
-}
 
 reporttest::Image draw(const sim::Task& task, bool door_open, const ArenaLayout& layout) {
     Canvas canvas(layout.width, layout.height, Format::png);

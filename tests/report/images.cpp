@@ -3,6 +3,7 @@
 #include <cairo.h>
 #include <expat.h>
 
+#include <cmath>
 #include <cstring>
 #include <set>
 #include <stdexcept>
@@ -55,6 +56,11 @@ double Image::inked() const {
     std::size_t n = 0;
     for (const auto p : argb) n += (p & 0xffffff) != 0xffffff;
     return argb.empty() ? 0.0 : static_cast<double>(n) / static_cast<double>(argb.size());
+}
+
+Rgb rgb(report::Colour c) {
+    return {static_cast<int>(std::lround(c.r * 255)), static_cast<int>(std::lround(c.g * 255)),
+            static_cast<int>(std::lround(c.b * 255))};
 }
 
 Image decode_png(const std::string& bytes) {

@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "report/style.hpp"
+
 namespace stepstone::reporttest {
 
 /// True when `bytes` starts with the 8-byte PNG signature.
@@ -31,6 +33,8 @@ struct Image {
     double inked() const;
 };
 Image decode_png(const std::string& bytes);
+/// The 8-bit pixel a colour is drawn as (each channel rounded from [0, 1] to 0-255).
+Rgb rgb(report::Colour c);
 
 /// What parsing an SVG found.
 struct SvgFacts {

@@ -1,12 +1,13 @@
-#include <catch2/catch.hpp>
+#include "sim/episode.hpp"
 
 #include <array>
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <vector>
 
 #include "core/error.hpp"
+#include "scripted_steps.hpp"
 #include "sim/controllers.hpp"
-#include "sim/episode.hpp"
 #include "sim/task.hpp"
 #include "sim/units.hpp"
 
@@ -17,13 +18,8 @@ namespace {
 
 // wall faces from the bitmap: pixel i covers [(i - 0.5) 600/296, (i + 0.5) 600/296)
 constexpr double kTopFace = 4.5 * 600.0 / 296.0;       // 9.1216
-constexpr double kBottomFace = 194.5 * 600.0 / 296.0;  // 394.2568
-
-std::array<float, kOutputs> act(Episode& episode, float left, float right, float action) {
-    std::array<float, kOutputs> outputs{left, right, action};
-    episode.act(outputs.data());
-    return outputs;
-}
+using stepstone::simtest::act;
+using stepstone::simtest::kBottomFace;
 
 std::array<float, kInputs> inputs_of(const Episode& episode) {
     std::array<float, kInputs> inputs{};

@@ -5,6 +5,7 @@
 #include <array>
 #include <catch2/catch.hpp>
 
+#include "scripted_steps.hpp"
 #include "sim/controllers.hpp"
 #include "sim/episode.hpp"
 #include "sim/task.hpp"
@@ -14,12 +15,8 @@ using namespace stepstone::sim;
 
 namespace {
 
-constexpr double kBottomFace = 194.5 * 600.0 / 296.0;  // the bottom wall's face, 394.2568
-
-void act(Episode& episode, float left, float right, float action) {
-    std::array<float, kOutputs> outputs{left, right, action};
-    episode.act(outputs.data());
-}
+using stepstone::simtest::act;
+using stepstone::simtest::kBottomFace;
 
 // still wheels (0.5, 0.5) with the action output held at `action`, `steps` times
 void hold(Episode& episode, float action, int steps) {

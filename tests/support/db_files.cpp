@@ -62,6 +62,15 @@ void make_truncated_stepstone(const std::filesystem::path& path) {
     write_file(path, bytes.substr(0, bytes.size() / 2));
 }
 
+int generations_done(const std::filesystem::path& path) {
+    try {
+        auto connection = db::open_database(path, db::OpenMode::read_only);
+        return static_cast<int>(connection.query_int("SELECT generations_done FROM run").value_or(-1));
+    } catch (const std::exception&) {
+        return -1;  // not created yet
+    }
+}
+
 std::string file_digest(const std::filesystem::path& path) {
     auto connection = db::open_database(path, db::OpenMode::read_only);
     return db::run_digest(connection);

@@ -21,6 +21,10 @@ void make_old_stepstone(const std::filesystem::path& path);
 /// columns in `individual` (migration 0005 removed again), user_version 4.
 void make_schema4_run(const std::filesystem::path& path);
 
+/// The run table's generations_done of a run file, opened read-only; -1 while
+/// the file or its run row does not exist yet (a writer still starting).
+int generations_done(const std::filesystem::path& path);
+
 /// The run digest of a run file (`stepstone db digest`), opened read-only.
 std::string file_digest(const std::filesystem::path& path);
 /// PRAGMA integrity_check of a file a killed writer may have left, opened for

@@ -35,7 +35,7 @@ TEST_CASE("a campaign with kb.delta uses the best source run's KB coarsened to t
     // check; tests/cli/kb's kb export --delta test gives the same coarsening rewards that differ
     auto source = db::open_database(camp / "source" / "seed-4.db", db::OpenMode::read_only);
     const auto fine = db::load_kb(source, "run").kb;
-    ::kbtest::OracleKb expected;
+    kboracle::OracleKb expected;
     expected.dim = fine.params().dim();
     expected.delta = 4.0;
     std::uint64_t fine_count = 0;
