@@ -1,7 +1,9 @@
 // stepstone bench [CASE...] [--quick] [--csv] [--list]
 
+#include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -21,7 +23,52 @@ struct BenchOptions {
     bool quick = false;
     bool csv = false;
     bool list = false;
+    std::vector<std::string> targets;  ///< CASE=RATIO, replacing a case's own target
 };
+
+// --target CASE=RATIO, each naming a case of this build and a positive ratio
+std::map<std::string, double> parse_targets(const std::vector<std::string>& given,
+                                            const bench::Registry& registry) {
+    std::map<std::string, double> targets;
+    for (const auto& text : given) {
+        const auto equals = text.find('=');
+        if (equals == std::string::npos)
+            throw ConfigError("--target '" + text + "' is not CASE=RATIO (e.g. --target sim=25)");
+        const std::string name = text.substr(0, equals);
+        if (registry.find(name) == nullptr)
+            throw ConfigError("--target names no bench case '" + name + "' (see --list)");
+        const std::string number = text.substr(equals + 1);
+        std::size_t used = 0;
+        double ratio = 0;
+        try {
+            ratio = std::stod(number, &used);
+        } catch (const std::exception&) {
+            used = 0;
+        }
+        if (used == 0 || used != number.size() || !std::isfinite(ratio) || ratio <= 0)
+            throw ConfigError("--target " + name + "='" + number + "' is not a positive ratio");
+        targets[name] = ratio;
+    }
+    return targets;
+}
+
+// the rows that fell short of their targets, "kb-loop 156x < 500x" each; a quick run judges
+// only the targets given with --target (its reduced workloads are not what the targets are for)
+std::vector<std::string> short_of_targets(const std::vector<bench::CaseResult>& results,
+                                          const std::map<std::string, double>& targets, bool quick) {
+    std::vector<std::string> below;
+    for (const auto& r : results) {
+        if (!r.skipped.empty()) continue;
+        const auto given = targets.find(r.name);
+        if (quick && given == targets.end()) continue;
+        const double target = given != targets.end() ? given->second : r.target_ratio;
+        if (r.ratio >= target) continue;
+        char line[128];
+        std::snprintf(line, sizeof line, "%s %.3gx < %gx", r.name.c_str(), r.ratio, target);
+        below.emplace_back(line);
+    }
+    return below;
+}
 
 // 241532 -> "242k", 4.8e6 -> "4.80M": rates span six orders of magnitude
 std::string human(double value) {
@@ -96,7 +143,8 @@ void run_bench(const BenchOptions& options) {
         return;
     }
 
-    // validate every name before running anything
+    // validate every name and target before running anything
+    const std::map<std::string, double> targets = parse_targets(options.targets, registry);
     std::vector<const bench::Case*> selected;
     for (const auto& name : options.cases) {
         const bench::Case* c = registry.find(name);
@@ -135,11 +183,24 @@ void run_bench(const BenchOptions& options) {
         }
     }
     progress.finish();
+    for (auto& r : results) {  // the table shows the target each row is judged by
+        if (const auto given = targets.find(r.name); given != targets.end()) r.target_ratio = given->second;
+    }
 
     if (options.csv) {
         print_csv(results);
     } else {
         print_table(results);
+    }
+    std::cout.flush();
+    const std::vector<std::string> below = short_of_targets(results, targets, options.quick);
+    if (!below.empty()) {
+        std::string list;
+        for (const auto& row : below) list += (list.empty() ? "" : ", ") + row;
+        throw Error("bench: " + std::to_string(below.size()) +
+                    (below.size() == 1 ? " case fell short of its target: "
+                                       : " cases fell short of their targets: ") +
+                    list);
     }
 }
 
@@ -154,8 +215,13 @@ void add_bench_command(CLI::App& app) {
     cmd->add_flag("--quick", options->quick, "Reduced workloads and fewer rounds: a few seconds in all");
     cmd->add_flag("--csv", options->csv, "Print case,baseline_per_s,candidate_per_s,ratio");
     cmd->add_flag("--list", options->list, "List the cases of this build with their units and targets");
+    cmd->add_option("--target", options->targets,
+                    "CASE=RATIO: judge CASE against RATIO instead of its own target (repeatable; "
+                    "also judged by --quick, which otherwise judges none)")
+        ->allow_extra_args(false);
     cmd->footer(example({"stepstone bench", "stepstone bench sim nn --csv", "stepstone bench --quick",
-                         "stepstone bench --list"}));
+                         "stepstone bench episode --target episode=25", "stepstone bench --list"}) +
+                "\nExit status 1, after the whole table, when a case that ran fell short of its target.");
     cmd->callback([options] { run_bench(*options); });
 }
 

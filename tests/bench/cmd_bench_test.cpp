@@ -57,3 +57,34 @@ TEST_CASE("a case that cannot run prints its row with the reason and the others 
     const std::string nn_row = result.out.substr(nn + 1, result.out.find('\n', nn + 1) - nn - 1);
     CHECK_THAT(nn_row, !Contains("not run") && Contains("x "));
 }
+
+TEST_CASE("bench exits 1 after the whole table when a case falls short of its target", "[bench][cli]") {
+    // nn's ratio is some finite positive number: below 10^9x, above 0.01x, whatever the machine
+    auto result = test::run_cli({"bench", "nn", "sim", "--quick", "--target", "nn=1e9"});
+    INFO(result.out << result.err);
+    CHECK(result.exit_code == 1);
+    CHECK_THAT(result.out,
+               Contains("\nnn ") && Contains("1e+09x") && Contains("\nsim "));  // every row, nn's new target
+    REQUIRE(result.err_lines().size() == 1);
+    CHECK_THAT(
+        result.err_lines()[0],
+        StartsWith("stepstone: error: bench: 1 case fell short of its target: nn ") && Contains("< 1e+09x"));
+
+    result = test::run_cli({"bench", "nn", "--quick", "--csv", "--target", "nn=0.01"});
+    INFO(result.out << result.err);
+    CHECK(result.exit_code == 0);
+    CHECK(result.err.empty());
+    CHECK_THAT(result.out, StartsWith("case,baseline_per_s,candidate_per_s,ratio\nnn,"));
+}
+
+TEST_CASE("a --target that is not CASE=RATIO of a case of this build is refused before anything runs",
+          "[bench][cli][errors]") {
+    for (const char* bad : {"nn", "nn=", "nn=abc", "nn=0", "nn=-2", "nn=inf", "nn=3x", "no-such-case=2"}) {
+        const auto result = test::run_cli({"bench", "nn", "--quick", "--target", bad});
+        INFO(bad << ": " << result.out << result.err);
+        CHECK(result.exit_code == 2);
+        REQUIRE(result.err_lines().size() == 1);
+        CHECK_THAT(result.err_lines()[0], StartsWith("stepstone: error: --target"));
+        CHECK(result.out.empty());
+    }
+}
