@@ -88,6 +88,11 @@ struct PeerRecord {
 
 bool built() { return true; }
 
+struct Session::Posted {
+    std::string bytes;
+    MPI_Request request = MPI_REQUEST_NULL;
+};
+
 Session::Session() {
     int initialised = 0;
     MPI_Initialized(&initialised);
@@ -106,7 +111,13 @@ Session::Session() {
 }
 
 Session::~Session() {
-    if (!abandoned_) MPI_Finalize();
+    if (abandoned_) return;
+    try {
+        flush();  // the stop messages of a job that ended early may still be on their way
+    } catch (const Error&) {
+        // a rank is gone: mpirun ends the job
+    }
+    MPI_Finalize();
 }
 
 void Session::complete(void* request, const char* call) {
@@ -131,7 +142,33 @@ void Session::send(int dest, int tag, std::string_view bytes) {
     complete(&request, "MPI_Isend");
 }
 
+void Session::post(int dest, int tag, std::string bytes) {
+    Posted& posted = posted_.emplace_back();
+    posted.bytes = std::move(bytes);
+    const int code = MPI_Isend(posted.bytes.data(), static_cast<int>(posted.bytes.size()), MPI_BYTE, dest,
+                               tag, MPI_COMM_WORLD, &posted.request);
+    if (code != MPI_SUCCESS) posted_.pop_back();
+    check(code, "MPI_Isend");
+    progress();
+}
+
+void Session::progress() {
+    for (auto it = posted_.begin(); it != posted_.end();) {
+        int done = 0;
+        check(MPI_Test(&it->request, &done, MPI_STATUS_IGNORE), "MPI_Isend");
+        it = done ? posted_.erase(it) : std::next(it);
+    }
+}
+
+void Session::flush() {
+    while (!posted_.empty()) {
+        complete(&posted_.front().request, "MPI_Isend");
+        posted_.pop_front();
+    }
+}
+
 std::optional<Envelope> Session::poll() {
+    progress();
     int flag = 0;
     MPI_Status status;
     check(MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &flag, &status), "MPI_Iprobe");
@@ -159,10 +196,15 @@ Message Session::receive(const Envelope& envelope) {
 
 bool built() { return false; }
 
+struct Session::Posted {};
+
 Session::Session() { require_built(); }
 void Session::complete(void*, const char*) {}
 Session::~Session() = default;
 void Session::send(int, int, std::string_view) { require_built(); }
+void Session::post(int, int, std::string) { require_built(); }
+void Session::flush() {}
+void Session::progress() {}
 std::optional<Envelope> Session::poll() { return std::nullopt; }
 Message Session::receive(const Envelope&) {
     require_built();

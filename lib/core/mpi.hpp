@@ -10,6 +10,7 @@
 #include <sys/types.h>
 
 #include <functional>
+#include <list>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -76,6 +77,13 @@ public:
 
     /// Sends `bytes` to rank `dest` with `tag`; returns once they are on their way.
     void send(int dest, int tag, std::string_view bytes);
+    /// Starts sending `bytes` and returns at once: the message goes on while
+    /// this rank works, moved along by poll(), receive() and flush(). Two
+    /// ranks that post to each other cannot block each other, as two send()s
+    /// of large messages can. Messages to a rank arrive in the order sent.
+    void post(int dest, int tag, std::string bytes);
+    /// Waits until every posted message is on its way.
+    void flush();
     /// The next message waiting (from any rank, any tag), if any.
     std::optional<Envelope> poll();
     /// Receives the waiting message `envelope` names.
@@ -109,7 +117,11 @@ public:
 private:
     // polls `request` (an MPI_Request) to completion, giving up with Cancelled
     void complete(void* request, const char* call);
+    // forgets the posted messages that are on their way
+    void progress();
 
+    struct Posted;  // a posted message: its bytes and request
+    std::list<Posted> posted_;
     int rank_ = 0;
     int size_ = 1;
     std::vector<Peer> peers_;

@@ -3,21 +3,17 @@
 #include <algorithm>
 #include <atomic>
 #include <thread>
-#include <utility>
+#include <unordered_map>
 
 #include "core/error.hpp"
 #include "core/text.hpp"
 
 namespace stepstone::evo {
 
-namespace {
-
-using Pair = std::pair<std::uint32_t, std::uint32_t>;
-
-// distances of `pairs`, kLanes at a time; batches go to whichever thread is
-// free, and each result lands in its own slot
-std::vector<float> compute_pairs(const std::vector<Pair>& pairs, std::span<const Trajectory> trajectories,
-                                 std::size_t length, unsigned threads) {
+// batches of kLanes pairs go to whichever thread is free, and each result lands in its own slot
+std::vector<float> pair_distances(std::span<const PositionPair> pairs,
+                                  std::span<const Trajectory> trajectories, std::size_t length,
+                                  unsigned threads) {
     std::vector<float> distances(pairs.size());
     const std::size_t batches = (pairs.size() + kLanes - 1) / kLanes;
     std::atomic<std::size_t> next_batch{0};
@@ -46,10 +42,15 @@ std::vector<float> compute_pairs(const std::vector<Pair>& pairs, std::span<const
     return distances;
 }
 
-}  // namespace
-
 void DiversityMatrix::update(std::span<const std::uint64_t> ids, std::span<const Trajectory> trajectories,
                              unsigned threads) {
+    update(ids, trajectories,
+           [threads](std::span<const PositionPair> pairs, std::span<const Trajectory> all,
+                     std::size_t length) { return pair_distances(pairs, all, length, threads); });
+}
+
+void DiversityMatrix::update(std::span<const std::uint64_t> ids, std::span<const Trajectory> trajectories,
+                             const PairDistances& compute) {
     // validate everything before touching the cache
     const std::size_t n = ids.size();
     if (trajectories.size() != n) {
@@ -77,7 +78,7 @@ void DiversityMatrix::update(std::span<const std::uint64_t> ids, std::span<const
 
     // reuse pairs of two known ids, list the others
     std::vector<float> matrix(n * n, 0.0f);
-    std::vector<Pair> pairs;
+    std::vector<PositionPair> pairs;
     const std::size_t old_n = ids_.size();
     for (std::size_t i = 0; i < n; ++i) {
         for (std::size_t j = i + 1; j < n; ++j) {
@@ -90,7 +91,10 @@ void DiversityMatrix::update(std::span<const std::uint64_t> ids, std::span<const
     }
 
     // compute the new pairs, then mirror the upper triangle
-    const auto distances = compute_pairs(pairs, trajectories, length, threads);
+    const auto distances = compute(pairs, trajectories, length);
+    if (distances.size() != pairs.size()) {
+        throw Error(concat("diversity: ", pairs.size(), " pairs but ", distances.size(), " distances"));
+    }
     for (std::size_t k = 0; k < pairs.size(); ++k) matrix[pairs[k].first * n + pairs[k].second] = distances[k];
     for (std::size_t i = 0; i < n; ++i) {
         for (std::size_t j = i + 1; j < n; ++j) matrix[j * n + i] = matrix[i * n + j];

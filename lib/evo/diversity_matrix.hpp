@@ -2,13 +2,30 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <span>
-#include <unordered_map>
+#include <utility>
 #include <vector>
 
 #include "evo/edit_distance.hpp"
 
 namespace stepstone::evo {
+
+/// Two positions (first < second) of a population whose distance is wanted.
+using PositionPair = std::pair<std::uint32_t, std::uint32_t>;
+
+/// Computes the distances of `pairs` between `trajectories` (all of
+/// `length`), result k for pair k. Any split of the pairs over threads or
+/// processes gives the same values: each is a pure function of its two
+/// trajectories.
+using PairDistances = std::function<std::vector<float>(
+    std::span<const PositionPair> pairs, std::span<const Trajectory> trajectories, std::size_t length)>;
+
+/// The distances of `pairs` on `threads` threads of this process (0 means 1),
+/// kLanes pairs a batch; batch b holds pairs [b * kLanes, (b + 1) * kLanes).
+std::vector<float> pair_distances(std::span<const PositionPair> pairs,
+                                  std::span<const Trajectory> trajectories, std::size_t length,
+                                  unsigned threads);
 
 /// The behavioural diversity objective of collectball (docs/original.md: diversity): the
 /// full symmetric matrix of edit distances between the trajectories of the
@@ -29,6 +46,9 @@ public:
     /// differ, or on trajectories of different lengths. threads = 0 means 1.
     void update(std::span<const std::uint64_t> ids, std::span<const Trajectory> trajectories,
                 unsigned threads = 1);
+    /// The same, the new pairs computed by `compute` (e.g. over the ranks of an MPI job).
+    void update(std::span<const std::uint64_t> ids, std::span<const Trajectory> trajectories,
+                const PairDistances& compute);
 
     /// Population size of the last update.
     std::size_t size() const { return ids_.size(); }

@@ -204,7 +204,15 @@ runs::GenerationWrite Evolution::select(std::vector<Member> mixed, std::size_t f
         trajectories.push_back(m.cells);
     }
     const double diversity_started = now_seconds();
-    diversity_.update(ids, trajectories, threads_);
+    if (remote_) {
+        // the ranks that evaluated the generation share its distances too
+        diversity_.update(
+            ids, trajectories,
+            [this](std::span<const evo::PositionPair> pairs, std::span<const evo::Trajectory> all,
+                   std::size_t length) { return remote_->distances(pairs, all, length); });
+    } else {
+        diversity_.update(ids, trajectories, threads_);
+    }
     const auto sums = diversity_.sums();
     const double selection_started = now_seconds();
     evo::Objectives objectives;

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -35,7 +36,8 @@ struct Member {
 };
 
 /// Evaluates a generation's genomes somewhere else than this process's
-/// threads (exp/mpi_evolve.hpp: over the ranks of an MPI job). Result k
+/// threads (exp/mpi_evolve.hpp: over the ranks of an MPI job), and the
+/// distances of the diversity objective with them. Result k
 /// belongs to genome k, with its r_max when the run has a shaping KB, and
 /// equals what evaluate_genome and shaped_r_max give here.
 class RemoteEvaluator {
@@ -46,6 +48,12 @@ public:
     /// evaluations are abandoned (a signal, a rank lost).
     virtual std::vector<Evaluation> evaluate(const std::vector<nn::Genome>& genomes,
                                              std::vector<float>* behaviours) = 0;
+    /// The diversity's new distances (evo::PairDistances), computed there
+    /// too; equal to evo::pair_distances here. Throws EvaluationInterrupted
+    /// as evaluate() does.
+    virtual std::vector<float> distances(std::span<const evo::PositionPair> pairs,
+                                         std::span<const evo::Trajectory> trajectories,
+                                         std::size_t length) = 0;
 };
 
 /// A policy's r_max under the shaping KB `kb`, from its first start's

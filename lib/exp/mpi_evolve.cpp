@@ -63,7 +63,59 @@ Evaluation evaluate_one(const sim::Task& task, const nn::Genome& genome, const n
     return evaluation;
 }
 
+// the pairs as plain numbers, first and second of each in turn
+std::vector<std::uint32_t> flatten(std::span<const evo::PositionPair> pairs) {
+    std::vector<std::uint32_t> flat;
+    flat.reserve(2 * pairs.size());
+    for (const auto& [i, j] : pairs) flat.insert(flat.end(), {i, j});
+    return flat;
+}
+
 // ------------------------------------------------------------------ rank 0
+
+// Rank 0's side of sharing `n` items out: chunks to the other ranks
+// (send_chunk(rank, first, count)), whose replies take(message) stores,
+// returning how many items it held; while no reply waits, rank 0 does the
+// next item itself (do_one(k)). Returns when all n are done. Chunks shrink
+// with the items left (a share of them, at least `min_chunk`), so that no
+// rank is still busy with a large one when the others run out.
+template <class SendChunk, class Take, class DoOne>
+void share_out(MpiLeader& leader, std::size_t n, std::size_t min_chunk, SendChunk send_chunk, Take take,
+               DoOne do_one) {
+    mpi::Session& session = leader.session();
+    const std::size_t shares = 2 * static_cast<std::size_t>(session.size());
+    std::size_t next = 0, done = 0;
+    auto hand_out = [&](int rank) {
+        const std::size_t left = n - next;
+        const std::size_t count = std::min(left, std::max(min_chunk, left / shares));
+        send_chunk(rank, next, count);  // posted (mpi::Session::post): ranks never wait on each other's sends
+        next += count;
+    };
+    // two chunks to each rank at first, then one a reply: a rank that ends a chunk finds the next waiting
+    for (int round = 0; round < 2; ++round) {
+        for (int rank = 1; rank < session.size() && next < n; ++rank) hand_out(rank);
+    }
+    for (int polls = 0; done < n; ++polls) {
+        if (InterruptGuard::received()) {
+            // mpirun is ending the job (a rank died) or the user stopped it
+            throw EvaluationInterrupted{leader.lose()};
+        }
+        if (auto envelope = session.poll()) {
+            polls = 0;
+            const auto message = session.receive(*envelope);
+            if (message.tag == kTagFailure)
+                throw Error(concat(session.describe(message.source), ": ", message.bytes));
+            done += take(message);
+            if (next < n) hand_out(message.source);
+        } else if (next < n) {
+            do_one(next++);  // nothing to read: rank 0 does the next item itself
+            ++done;
+        } else {
+            mpi::Session::pause(polls);
+        }
+    }
+    session.flush();
+}
 
 class MpiEvaluator final : public RemoteEvaluator {
 public:
@@ -83,62 +135,105 @@ public:
         }
     }
 
+    std::vector<float> distances(std::span<const evo::PositionPair> pairs,
+                                 std::span<const evo::Trajectory> trajectories, std::size_t length) override {
+        try {
+            return distances_over_ranks(pairs, trajectories, length);
+        } catch (const mpi::Cancelled&) {
+            throw EvaluationInterrupted{leader_.lose()};
+        }
+    }
+
 private:
+    // a reply of `tag` from a worker, or an error naming the rank that sent something else
+    ByteReader reply(const mpi::Message& message, int tag) const {
+        if (message.tag != tag) {
+            throw Error(concat(session_.describe(message.source), " sent an unexpected message (tag ",
+                               message.tag, ")"));
+        }
+        return ByteReader(message.bytes);
+    }
+
     std::vector<Evaluation> evaluate_over_ranks(const std::vector<nn::Genome>& genomes,
                                                 std::vector<float>* behaviours) {
         const std::size_t n = genomes.size();
         const std::size_t width = task_->behaviour_size();
         const bool want = behaviours != nullptr;
         std::vector<Evaluation> results(n);
-        std::vector<float> own(width);  // rank 0's own evaluations, when not kept
+        // rank 0's own evaluations, when not kept: recorded only for their r_max (recording costs time)
+        std::vector<float> own(shaping_ ? width : 0);
         if (want) behaviours->assign(n * width, 0.0f);
-        // small chunks: ranks that finish early (policies that stand still) take more
-        const std::size_t chunk =
-            std::max<std::size_t>(1, n / (4 * static_cast<std::size_t>(session_.size())));
-        std::size_t next = 0, done = 0;
-        auto hand_out = [&](int rank) {
-            const std::size_t count = std::min(chunk, n - next);
+        auto send_chunk = [&](int rank, std::size_t first, std::size_t count) {
             ByteWriter out;
-            out.put<std::uint64_t>(next).put<std::uint8_t>(want ? 1 : 0);
-            out.put_string(encode_genomes(std::span<const nn::Genome>(genomes).subspan(next, count)));
-            session_.send(rank, kTagWork, out.bytes());
-            next += count;
+            out.put<std::uint64_t>(first).put<std::uint8_t>(want ? 1 : 0);
+            out.put_string(encode_genomes(std::span<const nn::Genome>(genomes).subspan(first, count)));
+            session_.post(rank, kTagWork, out.take());
         };
-        for (int rank = 1; rank < session_.size() && next < n; ++rank) hand_out(rank);
-        for (int polls = 0; done < n; ++polls) {
-            if (InterruptGuard::received()) {
-                // mpirun is ending the job (a rank died) or the user stopped it
-                throw EvaluationInterrupted{leader_.lose()};
+        auto take = [&](const mpi::Message& message) {
+            ByteReader in = reply(message, kTagResult);
+            const auto first = in.get<std::uint64_t>();
+            const auto count = in.get<std::uint64_t>();
+            for (std::size_t k = first; k < first + count; ++k) results[k] = get_evaluation(in);
+            if (want) {
+                std::vector<float> received;
+                in.get_into(received);
+                std::copy(received.begin(), received.end(),
+                          behaviours->begin() + static_cast<long>(first * width));
             }
-            if (auto envelope = session_.poll()) {
-                polls = 0;
-                const auto message = session_.receive(*envelope);
-                if (message.tag == kTagFailure) {
-                    throw Error(concat(session_.describe(message.source), ": ", message.bytes));
-                }
-                ByteReader in(message.bytes);
-                const auto first = in.get<std::uint64_t>();
-                const auto count = in.get<std::uint64_t>();
-                for (std::size_t k = first; k < first + count; ++k) results[k] = get_evaluation(in);
-                if (want) {
-                    std::vector<float> received;
-                    in.get_into(received);
-                    std::copy(received.begin(), received.end(),
-                              behaviours->begin() + static_cast<long>(first * width));
-                }
-                done += count;
-                if (next < n) hand_out(message.source);
-            } else if (next < n) {
-                // nothing to read: rank 0 evaluates the next genome itself
-                const std::size_t k = next++;
-                const std::span<float> behaviour =
-                    want ? std::span<float>(behaviours->data() + k * width, width) : std::span<float>(own);
-                results[k] = evaluate_one(*task_, genomes[k], dnn_, shaping_, behaviour);
-                ++done;
-            } else {
-                mpi::Session::pause(polls);
+            return static_cast<std::size_t>(count);
+        };
+        auto do_one = [&](std::size_t k) {
+            const std::span<float> behaviour =
+                want ? std::span<float>(behaviours->data() + k * width, width) : std::span<float>(own);
+            results[k] = evaluate_one(*task_, genomes[k], dnn_, shaping_, behaviour);
+        };
+        share_out(leader_, n, 1, send_chunk, take, do_one);
+        return results;
+    }
+
+    // the items shared out are batches of evo::kLanes pairs; each rank gets the trajectories with its first
+    // chunk
+    std::vector<float> distances_over_ranks(std::span<const evo::PositionPair> pairs,
+                                            std::span<const evo::Trajectory> trajectories,
+                                            std::size_t length) {
+        std::vector<float> results(pairs.size());
+        const std::size_t batches = (pairs.size() + evo::kLanes - 1) / evo::kLanes;
+        const auto pairs_of = [&](std::size_t first, std::size_t count) {
+            const std::size_t begin = first * evo::kLanes;
+            return pairs.subspan(begin, std::min(count * evo::kLanes, pairs.size() - begin));
+        };
+        std::vector<char> has_trajectories(static_cast<std::size_t>(session_.size()), 0);
+        auto send_chunk = [&](int rank, std::size_t first, std::size_t count) {
+            ByteWriter out;
+            char& has = has_trajectories[static_cast<std::size_t>(rank)];
+            out.put<std::uint8_t>(has ? 0 : 1);
+            if (!has) {
+                std::vector<evo::GridCell> cells;
+                cells.reserve(trajectories.size() * length);
+                for (const auto& t : trajectories) cells.insert(cells.end(), t.begin(), t.end());
+                out.put<std::uint64_t>(length).put_span(std::span<const evo::GridCell>(cells));
+                has = 1;
             }
-        }
+            out.put<std::uint64_t>(first).put_span(
+                std::span<const std::uint32_t>(flatten(pairs_of(first, count))));
+            session_.post(rank, kTagPairs, out.take());
+        };
+        auto take = [&](const mpi::Message& message) {
+            ByteReader in = reply(message, kTagDistances);
+            const auto first = in.get<std::uint64_t>();
+            std::vector<float> received;
+            in.get_into(received);
+            std::copy(received.begin(), received.end(),
+                      results.begin() + static_cast<long>(first * evo::kLanes));
+            return (received.size() + evo::kLanes - 1) / evo::kLanes;
+        };
+        auto do_one = [&](std::size_t b) {
+            const auto batch = pairs_of(b, 1);
+            const auto own = evo::pair_distances(batch, trajectories, length, 1);
+            std::copy(own.begin(), own.end(), results.begin() + static_cast<long>(b * evo::kLanes));
+        };
+        // a batch takes tens of microseconds: fewer than 8 a message would cost more than they save
+        share_out(leader_, batches, 8, send_chunk, take, do_one);
         return results;
     }
 
@@ -148,6 +243,65 @@ private:
     nn::DnnConfig dnn_;
     const kb::KnowledgeBase* shaping_;
 };
+
+// ---------------------------------------------------------------- workers
+
+// one kTagWork message: its genomes evaluated on `threads` threads, the reply's bytes
+std::string evaluate_chunk(const std::string& bytes, const sim::Task& task, const runs::EvolveConfig& config,
+                           const kb::KnowledgeBase* shaping, unsigned threads) {
+    ByteReader in(bytes);
+    const auto first = in.get<std::uint64_t>();
+    const bool want = in.get<std::uint8_t>() != 0;
+    // behaviours recorded only when rank 0 keeps them or r_max needs them (recording costs time)
+    const std::size_t width = want || shaping ? task.behaviour_size() : 0;
+    const auto genomes = decode_genomes(in.get_string());
+    std::vector<Evaluation> results(genomes.size());
+    std::vector<float> behaviours(genomes.size() * width);
+    parallel_for(genomes.size(), threads, [&](std::size_t k) {
+        results[k] = evaluate_one(task, genomes[k], config.dnn, shaping,
+                                  std::span<float>(behaviours.data() + k * width, width));
+    });
+    ByteWriter out;
+    out.put<std::uint64_t>(first).put<std::uint64_t>(genomes.size());
+    for (const auto& result : results) put_evaluation(out, result);
+    if (want) out.put_span(std::span<const float>(behaviours));
+    return out.bytes();
+}
+
+// the trajectories of the generation whose distances a worker computes
+struct PairSetting {
+    std::vector<evo::Trajectory> trajectories;
+    std::size_t length = 0;
+};
+
+// one kTagPairs message: its pairs' distances on `threads` threads, the reply's bytes
+std::string distance_chunk(const std::string& bytes, PairSetting& setting, unsigned threads) {
+    ByteReader in(bytes);
+    if (in.get<std::uint8_t>() != 0) {
+        setting.length = in.get<std::uint64_t>();
+        std::vector<evo::GridCell> cells;
+        in.get_into(cells);
+        if (setting.length == 0 || cells.size() % setting.length != 0)
+            throw Error("rank 0 sent malformed trajectories");
+        setting.trajectories.clear();
+        for (auto at = cells.begin(); at != cells.end(); at += static_cast<long>(setting.length)) {
+            setting.trajectories.emplace_back(at, at + static_cast<long>(setting.length));
+        }
+    }
+    const auto first = in.get<std::uint64_t>();
+    std::vector<std::uint32_t> flat;
+    in.get_into(flat);
+    std::vector<evo::PositionPair> pairs;
+    for (std::size_t k = 0; k + 1 < flat.size(); k += 2) {
+        if (std::max(flat[k], flat[k + 1]) >= setting.trajectories.size())
+            throw Error("rank 0 sent a pair out of range");
+        pairs.emplace_back(flat[k], flat[k + 1]);
+    }
+    ByteWriter out;
+    out.put<std::uint64_t>(first).put_span(
+        std::span<const float>(evo::pair_distances(pairs, setting.trajectories, setting.length, threads)));
+    return out.bytes();
+}
 
 }  // namespace
 
@@ -185,8 +339,6 @@ std::unique_ptr<RemoteEvaluator> MpiLeader::start(const runs::EvolveConfig& conf
     return std::make_unique<MpiEvaluator>(*this, config, shaping);
 }
 
-// ---------------------------------------------------------------- workers
-
 void serve_evolve(mpi::Session& session, unsigned threads) {
     std::signal(SIGINT, SIG_IGN);
     std::signal(SIGTERM, SIG_IGN);
@@ -199,23 +351,16 @@ void serve_evolve(mpi::Session& session, unsigned threads) {
         std::optional<kb::KnowledgeBase> shaping;
         if (config.transfer) shaping = load_shaping_kb(config);  // checked against rank 0's digest
         const auto task = sim::make_task(config.task);
-        const std::size_t width = task->behaviour_size();
-        for (message = next(); message.tag == kTagWork; message = next()) {
-            ByteReader in(message.bytes);
-            const auto first = in.get<std::uint64_t>();
-            const bool want = in.get<std::uint8_t>() != 0;
-            const auto genomes = decode_genomes(in.get_string());
-            std::vector<Evaluation> results(genomes.size());
-            std::vector<float> behaviours(genomes.size() * width);
-            parallel_for(genomes.size(), threads, [&](std::size_t k) {
-                results[k] = evaluate_one(*task, genomes[k], config.dnn, shaping ? &*shaping : nullptr,
-                                          std::span<float>(behaviours.data() + k * width, width));
-            });
-            ByteWriter out;
-            out.put<std::uint64_t>(first).put<std::uint64_t>(genomes.size());
-            for (const auto& result : results) put_evaluation(out, result);
-            if (want) out.put_span(std::span<const float>(behaviours));
-            session.send(0, kTagResult, out.bytes());
+        PairSetting pairs;
+        for (message = next(); message.tag == kTagWork || message.tag == kTagPairs; message = next()) {
+            // posted: the next chunk, already waiting, starts before rank 0 has taken this one
+            if (message.tag == kTagWork) {
+                session.post(
+                    0, kTagResult,
+                    evaluate_chunk(message.bytes, *task, config, shaping ? &*shaping : nullptr, threads));
+            } else {
+                session.post(0, kTagDistances, distance_chunk(message.bytes, pairs, threads));
+            }
         }
     } catch (const std::exception& e) {
         // rank 0 reports it and stops the job: this rank waits for its word

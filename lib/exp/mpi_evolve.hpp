@@ -5,7 +5,8 @@
 // each generation it hands the genomes out in small chunks to the ranks that
 // are free, evaluates one at a time itself while it waits, and puts every
 // result in its individual's slot, so the run is the same for any number of
-// ranks. The other ranks serve evaluations until rank 0 says stop.
+// ranks. The diversity's new edit distances are shared the same way, in
+// chunks of pairs. The other ranks serve until rank 0 says stop.
 
 #include <memory>
 #include <string>
@@ -17,11 +18,13 @@ namespace stepstone::exp {
 
 /// Message tags of `evolve --mpi` and `campaign --mpi`.
 enum MpiTag : int {
-    kTagSetup = 1,    ///< rank 0 -> worker: what to do (a run's config, a run to carry out)
-    kTagWork = 2,     ///< rank 0 -> worker: genomes to evaluate
-    kTagResult = 3,   ///< worker -> rank 0: their evaluations, or a run's end
-    kTagFailure = 4,  ///< worker -> rank 0: an error, one line
-    kTagStop = 5,     ///< rank 0 -> worker: finish and leave
+    kTagSetup = 1,      ///< rank 0 -> worker: what to do (a run's config, a run to carry out)
+    kTagWork = 2,       ///< rank 0 -> worker: genomes to evaluate
+    kTagResult = 3,     ///< worker -> rank 0: their evaluations, or a run's end
+    kTagFailure = 4,    ///< worker -> rank 0: an error, one line
+    kTagStop = 5,       ///< rank 0 -> worker: finish and leave
+    kTagPairs = 6,      ///< rank 0 -> worker: pairs of trajectories (and the trajectories, once a generation)
+    kTagDistances = 7,  ///< worker -> rank 0: the distances of those pairs
 };
 
 /// Rank 0's side of `evolve --mpi`. Whatever happens, the other ranks are

@@ -109,3 +109,48 @@ TEST_CASE("bad diversity input is refused before the cache changes", "[evo][dive
                       Equals("diversity: trajectory 2 has 79 samples, trajectory 0 has 80"));
     CHECK(matrix.size() == 0);
 }
+
+TEST_CASE("distances computed elsewhere, pair by pair, give the same diversity", "[evo][diversity][mpi]") {
+    Rng rng(65);
+    const auto trajectories = random_trajectories(rng, 30);
+    std::vector<std::uint64_t> ids(30);
+    std::iota(ids.begin(), ids.end(), std::uint64_t{0});
+    std::size_t asked = 0;
+    // what a rank of an MPI job does: its own share of the pairs, here the table-per-pair DP, last pair first
+    const PairDistances elsewhere = [&](std::span<const PositionPair> pairs, std::span<const Trajectory> all,
+                                        std::size_t length) {
+        CHECK(length == 80);
+        asked += pairs.size();
+        std::vector<float> out(pairs.size());
+        for (std::size_t k = pairs.size(); k-- > 0;) {
+            REQUIRE(pairs[k].first < pairs[k].second);
+            out[k] = edit_distance_full_table(all[pairs[k].first], all[pairs[k].second]);
+        }
+        return out;
+    };
+    DiversityMatrix matrix;
+    matrix.update(ids, trajectories, elsewhere);
+    CHECK(asked == 30 * 29 / 2);
+    CHECK(matrix.sums() == plain_sums(trajectories));
+    // pair_distances over a split of the pairs equals it whole
+    const std::vector<PositionPair> pairs{{0, 1}, {2, 9}, {4, 29}, {7, 8}, {3, 5}};
+    const auto whole = pair_distances(pairs, trajectories, 80, 2);
+    auto split = pair_distances(std::span(pairs).first(2), trajectories, 80, 1);
+    const auto rest = pair_distances(std::span(pairs).subspan(2), trajectories, 80, 1);
+    split.insert(split.end(), rest.begin(), rest.end());
+    CHECK(split == whole);
+    CHECK(whole[1] == edit_distance_full_table(trajectories[2], trajectories[9]));
+
+    // a computer that loses a distance is refused, and the cache is left as it was
+    const PairDistances short_one = [&](std::span<const PositionPair> p, std::span<const Trajectory> all,
+                                        std::size_t length) {
+        auto out = pair_distances(p, all, length, 1);
+        out.pop_back();
+        return out;
+    };
+    std::vector<std::uint64_t> next_ids(ids.begin(), ids.end());
+    next_ids.back() = 500;
+    CHECK_THROWS_WITH(matrix.update(next_ids, trajectories, short_one),
+                      Equals("diversity: 29 pairs but 28 distances"));
+    CHECK(matrix.sums() == plain_sums(trajectories));
+}
