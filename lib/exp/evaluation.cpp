@@ -43,7 +43,9 @@ std::vector<Evaluation> evaluate_all(const sim::Task& task, std::span<const nn::
                                      const nn::DnnConfig& dnn, unsigned threads, std::vector<float>* behaviours) {
     std::vector<Evaluation> results(genomes.size());
     const std::size_t width = behaviours ? task.behaviour_size() : 0;
-    if (behaviours) behaviours->assign(genomes.size() * width, 0.0f);
+    // no zero fill: every evaluation writes its whole matrix (an early stop pads it), and a
+    // buffer kept from the last call keeps its pages
+    if (behaviours) behaviours->resize(genomes.size() * width);
     parallel_for(genomes.size(), threads, [&](std::size_t k) {
         if (InterruptGuard::received()) return;  // abandoned: thrown below
         std::span<float> behaviour;

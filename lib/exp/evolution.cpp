@@ -160,7 +160,7 @@ std::vector<Evaluation> Evolution::evaluate(const std::vector<nn::Genome>& genom
     const bool observe = kb_ && generation_ % config_.kb->period == 0;
     const bool shape = shaping_kb_.has_value();
     const double started = now_seconds();
-    std::vector<float> behaviours;
+    std::vector<float>& behaviours = behaviours_;
     const std::size_t width = task_->behaviour_size();
     std::vector<Evaluation> evaluations;
     if (remote_) {

@@ -129,6 +129,9 @@ private:
     double time_simulation_ = 0;  // seconds of the generation in progress
     double time_kb_ = 0;
     RemoteEvaluator* remote_ = nullptr;
+    /// The generation's behaviour matrices (tens of MB), kept from one generation to the next:
+    /// a fresh buffer each time cost a quarter of a KB-observing generation in page faults.
+    std::vector<float> behaviours_;
 };
 
 /// Options of `stepstone evolve`.

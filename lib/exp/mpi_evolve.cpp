@@ -162,7 +162,7 @@ private:
         std::vector<Evaluation> results(n);
         // rank 0's own evaluations, when not kept: recorded only for their r_max (recording costs time)
         std::vector<float> own(shaping_ ? width : 0);
-        if (want) behaviours->assign(n * width, 0.0f);
+        if (want) behaviours->resize(n * width);  // every slot is written (evaluate_all)
         auto send_chunk = [&](int rank, std::size_t first, std::size_t count) {
             ByteWriter out;
             out.put<std::uint64_t>(first).put<std::uint8_t>(want ? 1 : 0);
@@ -248,7 +248,8 @@ private:
 
 // one kTagWork message: its genomes evaluated on `threads` threads, the reply's bytes
 std::string evaluate_chunk(const std::string& bytes, const sim::Task& task, const runs::EvolveConfig& config,
-                           const kb::KnowledgeBase* shaping, unsigned threads) {
+                           const kb::KnowledgeBase* shaping, unsigned threads,
+                           std::vector<float>& behaviours) {
     ByteReader in(bytes);
     const auto first = in.get<std::uint64_t>();
     const bool want = in.get<std::uint8_t>() != 0;
@@ -256,7 +257,7 @@ std::string evaluate_chunk(const std::string& bytes, const sim::Task& task, cons
     const std::size_t width = want || shaping ? task.behaviour_size() : 0;
     const auto genomes = decode_genomes(in.get_string());
     std::vector<Evaluation> results(genomes.size());
-    std::vector<float> behaviours(genomes.size() * width);
+    behaviours.resize(genomes.size() * width);  // kept from chunk to chunk, every slot written
     parallel_for(genomes.size(), threads, [&](std::size_t k) {
         results[k] = evaluate_one(task, genomes[k], config.dnn, shaping,
                                   std::span<float>(behaviours.data() + k * width, width));
@@ -264,7 +265,7 @@ std::string evaluate_chunk(const std::string& bytes, const sim::Task& task, cons
     ByteWriter out;
     out.put<std::uint64_t>(first).put<std::uint64_t>(genomes.size());
     for (const auto& result : results) put_evaluation(out, result);
-    if (want) out.put_span(std::span<const float>(behaviours));
+    if (want) out.put_span(std::span<const float>(behaviours.data(), genomes.size() * width));
     return out.bytes();
 }
 
@@ -352,12 +353,13 @@ void serve_evolve(mpi::Session& session, unsigned threads) {
         if (config.transfer) shaping = load_shaping_kb(config);  // checked against rank 0's digest
         const auto task = sim::make_task(config.task);
         PairSetting pairs;
+        std::vector<float> behaviours;
         for (message = next(); message.tag == kTagWork || message.tag == kTagPairs; message = next()) {
             // posted: the next chunk, already waiting, starts before rank 0 has taken this one
             if (message.tag == kTagWork) {
-                session.post(
-                    0, kTagResult,
-                    evaluate_chunk(message.bytes, *task, config, shaping ? &*shaping : nullptr, threads));
+                session.post(0, kTagResult,
+                             evaluate_chunk(message.bytes, *task, config, shaping ? &*shaping : nullptr,
+                                            threads, behaviours));
             } else {
                 session.post(0, kTagDistances, distance_chunk(message.bytes, pairs, threads));
             }

@@ -182,6 +182,11 @@ EpisodeResult Episode::finish() {
     // an early stop pads the first start's records: rows repeat the last row,
     // cells take the final position
     const std::size_t rows = static_cast<std::size_t>(task_->config().steps_per_start);
+    if (!recording_.behaviour.empty() && rows_written_ == 0) {
+        // no step recorded (none run): zeros, whatever the buffer held before
+        std::fill(recording_.behaviour.begin(), recording_.behaviour.end(), 0.0f);
+        rows_written_ = rows;
+    }
     if (!recording_.behaviour.empty() && rows_written_ > 0) {
         const float* last = recording_.behaviour.data() + (rows_written_ - 1) * kChannels;
         for (std::size_t r = rows_written_; r < rows; ++r) {

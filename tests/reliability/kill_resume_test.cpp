@@ -35,18 +35,6 @@ const char* kTinyConfig = R"({
   "kb": {"segment_width": 10, "delta": 1.0, "period": 1}
 })";
 
-// the run's last committed generation as a reader sees it (-2 while the file
-// does not exist yet or cannot be read)
-int committed_generations(const fs::path& path) {
-    if (!fs::exists(path)) return -2;
-    try {
-        auto connection = db::open_database(path, db::OpenMode::read_only);
-        return static_cast<int>(connection.query_int("SELECT generations_done FROM run").value_or(-2));
-    } catch (const std::exception&) {
-        return -2;
-    }
-}
-
 }  // namespace
 
 TEST_CASE("20 evolve runs killed with SIGKILL at seeded random moments resume to the uninterrupted digest",
@@ -74,10 +62,10 @@ TEST_CASE("20 evolve runs killed with SIGKILL at seeded random moments resume to
         const int after = after_generation(draw);
         const int wait = delay_ms(draw);
         std::optional<std::chrono::steady_clock::time_point> reached;
-        test::run_cli_killed_when({"evolve", "--config", (dir / "c.json").string(), "--db", run.string(), "--seed",
-                                   std::to_string(seed), "--threads", k % 2 ? "1" : "2", "--quiet"},
+        test::run_cli_killed_when({"evolve", "--config", (dir / "c.json").string(), "--db", run.string(),
+                                   "--seed", std::to_string(seed), "--threads", k % 2 ? "1" : "2", "--quiet"},
                                   [&] {
-                                      if (!reached && committed_generations(run) >= after) {
+                                      if (!reached && test::generations_done(run, -2) >= after) {
                                           reached = std::chrono::steady_clock::now();
                                       }
                                       return reached && std::chrono::steady_clock::now() - *reached >=

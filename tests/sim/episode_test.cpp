@@ -1,5 +1,6 @@
 #include "sim/episode.hpp"
 
+#include <algorithm>
 #include <array>
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -237,6 +238,18 @@ TEST_CASE("an early stop pads the trajectory with the final cell and repeats the
     for (std::size_t r = 116; r < 4000; ++r) {
         REQUIRE(std::equal(last, last + kChannels, behaviour.data() + r * kChannels));
     }
+}
+
+TEST_CASE("an episode finished before its first step leaves zeros, not what the buffer held",
+          "[sim][episode][still]") {
+    // evaluations write into buffers kept from one generation to the next: every slot is theirs
+    const auto task = make_task(TaskConfig{});
+    std::vector<float> behaviour(task->behaviour_size(), -1.0f);
+    Episode episode(*task, Recording{behaviour, {}});
+    episode.begin_start(0);
+    const auto result = episode.finish();
+    CHECK(result.steps_run == 0);
+    CHECK(std::count(behaviour.begin(), behaviour.end(), 0.0f) == static_cast<long>(behaviour.size()));
 }
 
 TEST_CASE("NaN outputs become 0 and are counted, others are clamped", "[sim][episode]") {

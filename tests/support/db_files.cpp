@@ -62,12 +62,13 @@ void make_truncated_stepstone(const std::filesystem::path& path) {
     write_file(path, bytes.substr(0, bytes.size() / 2));
 }
 
-int generations_done(const std::filesystem::path& path) {
+int generations_done(const std::filesystem::path& path, int missing) {
+    if (!std::filesystem::exists(path)) return missing;
     try {
         auto connection = db::open_database(path, db::OpenMode::read_only);
-        return static_cast<int>(connection.query_int("SELECT generations_done FROM run").value_or(-1));
+        return static_cast<int>(connection.query_int("SELECT generations_done FROM run").value_or(missing));
     } catch (const std::exception&) {
-        return -1;  // not created yet
+        return missing;  // not created yet
     }
 }
 

@@ -21,9 +21,11 @@ void make_old_stepstone(const std::filesystem::path& path);
 /// columns in `individual` (migration 0005 removed again), user_version 4.
 void make_schema4_run(const std::filesystem::path& path);
 
-/// The run table's generations_done of a run file, opened read-only; -1 while
-/// the file or its run row does not exist yet (a writer still starting).
-int generations_done(const std::filesystem::path& path);
+/// The run table's generations_done of a run file, opened read-only; `missing`
+/// while the file or its run row does not exist yet (a writer still starting).
+/// The default -1 reads as "not even generation 0"; pass -2 to tell that
+/// apart from a run row written before generation 0.
+int generations_done(const std::filesystem::path& path, int missing = -1);
 
 /// The run digest of a run file (`stepstone db digest`), opened read-only.
 std::string file_digest(const std::filesystem::path& path);
