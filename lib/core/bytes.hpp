@@ -11,6 +11,7 @@
 #include <type_traits>
 
 #include "core/error.hpp"
+#include "core/text.hpp"
 
 namespace stepstone {
 
@@ -35,6 +36,12 @@ public:
     /// Appends a length, then the text.
     ByteWriter& put_string(std::string_view text) {
         return put_span(std::span<const char>(text.data(), text.size()));
+    }
+
+    /// Room for `size` bytes in all, so that a large message is not copied as it grows.
+    ByteWriter& reserve(std::size_t size) {
+        bytes_.reserve(size);
+        return *this;
     }
 
     const std::string& bytes() const { return bytes_; }
@@ -65,6 +72,18 @@ public:
         const auto count = get<std::uint64_t>();
         if (count > bytes_.size() / sizeof(T)) throw DataError("a message ends too early");
         out.resize(count);
+        if (count > 0) std::memcpy(out.data(), take(count * sizeof(T)), count * sizeof(T));
+    }
+    /// Reads a count and the elements straight into `out`, which must hold
+    /// exactly that many (DataError otherwise): no intermediate copy.
+    template <class T>
+    void get_exactly(std::span<T> out) {
+        static_assert(std::is_trivially_copyable_v<T>);
+        const auto count = get<std::uint64_t>();
+        if (count != out.size()) {
+            throw DataError(
+                concat("a message holds ", count, " values where ", out.size(), " were expected"));
+        }
         if (count > 0) std::memcpy(out.data(), take(count * sizeof(T)), count * sizeof(T));
     }
     std::string get_string() {

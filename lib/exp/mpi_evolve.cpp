@@ -174,12 +174,7 @@ private:
             const auto first = in.get<std::uint64_t>();
             const auto count = in.get<std::uint64_t>();
             for (std::size_t k = first; k < first + count; ++k) results[k] = get_evaluation(in);
-            if (want) {
-                std::vector<float> received;
-                in.get_into(received);
-                std::copy(received.begin(), received.end(),
-                          behaviours->begin() + static_cast<long>(first * width));
-            }
+            if (want) in.get_exactly(std::span<float>(behaviours->data() + first * width, count * width));
             return static_cast<std::size_t>(count);
         };
         auto do_one = [&](std::size_t k) {
@@ -263,6 +258,9 @@ std::string evaluate_chunk(const std::string& bytes, const sim::Task& task, cons
                                   std::span<float>(behaviours.data() + k * width, width));
     });
     ByteWriter out;
+    // room for the behaviours too (tens of MB in a KB-observing generation): one allocation, no regrowth
+    out.reserve(64 + genomes.size() * (128 + task.cell_count() * sizeof(evo::GridCell)) +
+                (want ? genomes.size() * width * sizeof(float) : 0));
     out.put<std::uint64_t>(first).put<std::uint64_t>(genomes.size());
     for (const auto& result : results) put_evaluation(out, result);
     if (want) out.put_span(std::span<const float>(behaviours.data(), genomes.size() * width));
