@@ -153,6 +153,10 @@ private:
         }
         return ByteReader(message.bytes);
     }
+    // a reply whose items are not among those handed out
+    Error malformed(const mpi::Message& message) const {
+        return Error(concat(session_.describe(message.source), " sent results for items it was not given"));
+    }
 
     std::vector<Evaluation> evaluate_over_ranks(const std::vector<nn::Genome>& genomes,
                                                 std::vector<float>* behaviours) {
@@ -173,6 +177,7 @@ private:
             ByteReader in = reply(message, kTagResult);
             const auto first = in.get<std::uint64_t>();
             const auto count = in.get<std::uint64_t>();
+            if (first > n || count > n - first) throw malformed(message);
             for (std::size_t k = first; k < first + count; ++k) results[k] = get_evaluation(in);
             if (want) in.get_exactly(std::span<float>(behaviours->data() + first * width, count * width));
             return static_cast<std::size_t>(count);
@@ -218,6 +223,8 @@ private:
             const auto first = in.get<std::uint64_t>();
             std::vector<float> received;
             in.get_into(received);
+            if (first >= batches || received.size() > results.size() - first * evo::kLanes)
+                throw malformed(message);
             std::copy(received.begin(), received.end(),
                       results.begin() + static_cast<long>(first * evo::kLanes));
             return (received.size() + evo::kLanes - 1) / evo::kLanes;
