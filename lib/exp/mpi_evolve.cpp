@@ -78,10 +78,11 @@ std::vector<std::uint32_t> flatten(std::span<const evo::PositionPair> pairs) {
 // returning how many items it held; while no reply waits, rank 0 does the
 // next item itself (do_one(k)). Returns when all n are done. Chunks shrink
 // with the items left (a share of them, at least `min_chunk`), so that no
-// rank is still busy with a large one when the others run out.
+// rank is still busy with a large one when the others run out. A signal,
+// or a message to or from a rank that died, ends it with EvaluationInterrupted.
 template <class SendChunk, class Take, class DoOne>
 void share_out(MpiLeader& leader, std::size_t n, std::size_t min_chunk, SendChunk send_chunk, Take take,
-               DoOne do_one) {
+               DoOne do_one) try {
     mpi::Session& session = leader.session();
     const std::size_t shares = 2 * static_cast<std::size_t>(session.size());
     std::size_t next = 0, done = 0;
@@ -115,6 +116,8 @@ void share_out(MpiLeader& leader, std::size_t n, std::size_t min_chunk, SendChun
         }
     }
     session.flush();
+} catch (const mpi::Cancelled&) {
+    throw EvaluationInterrupted{leader.lose()};  // a message to or from a rank that died
 }
 
 class MpiEvaluator final : public RemoteEvaluator {
@@ -128,38 +131,6 @@ public:
 
     std::vector<Evaluation> evaluate(const std::vector<nn::Genome>& genomes,
                                      std::vector<float>* behaviours) override {
-        try {
-            return evaluate_over_ranks(genomes, behaviours);
-        } catch (const mpi::Cancelled&) {
-            throw EvaluationInterrupted{leader_.lose()};  // a message to or from a rank that died
-        }
-    }
-
-    std::vector<float> distances(std::span<const evo::PositionPair> pairs,
-                                 std::span<const evo::Trajectory> trajectories, std::size_t length) override {
-        try {
-            return distances_over_ranks(pairs, trajectories, length);
-        } catch (const mpi::Cancelled&) {
-            throw EvaluationInterrupted{leader_.lose()};
-        }
-    }
-
-private:
-    // a reply of `tag` from a worker, or an error naming the rank that sent something else
-    ByteReader reply(const mpi::Message& message, int tag) const {
-        if (message.tag != tag) {
-            throw Error(concat(session_.describe(message.source), " sent an unexpected message (tag ",
-                               message.tag, ")"));
-        }
-        return ByteReader(message.bytes);
-    }
-    // a reply whose items are not among those handed out
-    Error malformed(const mpi::Message& message) const {
-        return Error(concat(session_.describe(message.source), " sent results for items it was not given"));
-    }
-
-    std::vector<Evaluation> evaluate_over_ranks(const std::vector<nn::Genome>& genomes,
-                                                std::vector<float>* behaviours) {
         const std::size_t n = genomes.size();
         const std::size_t width = task_->behaviour_size();
         const bool want = behaviours != nullptr;
@@ -193,24 +164,23 @@ private:
 
     // the items shared out are batches of evo::kLanes pairs; each rank gets the trajectories with its first
     // chunk
-    std::vector<float> distances_over_ranks(std::span<const evo::PositionPair> pairs,
-                                            std::span<const evo::Trajectory> trajectories,
-                                            std::size_t length) {
+    std::vector<float> distances(std::span<const evo::PositionPair> pairs,
+                                 std::span<const evo::Trajectory> trajectories, std::size_t length) override {
         std::vector<float> results(pairs.size());
         const std::size_t batches = (pairs.size() + evo::kLanes - 1) / evo::kLanes;
         const auto pairs_of = [&](std::size_t first, std::size_t count) {
             const std::size_t begin = first * evo::kLanes;
             return pairs.subspan(begin, std::min(count * evo::kLanes, pairs.size() - begin));
         };
+        std::vector<evo::GridCell> cells;  // the trajectories end to end, as each rank receives them once
+        cells.reserve(trajectories.size() * length);
+        for (const auto& t : trajectories) cells.insert(cells.end(), t.begin(), t.end());
         std::vector<char> has_trajectories(static_cast<std::size_t>(session_.size()), 0);
         auto send_chunk = [&](int rank, std::size_t first, std::size_t count) {
             ByteWriter out;
             char& has = has_trajectories[static_cast<std::size_t>(rank)];
             out.put<std::uint8_t>(has ? 0 : 1);
             if (!has) {
-                std::vector<evo::GridCell> cells;
-                cells.reserve(trajectories.size() * length);
-                for (const auto& t : trajectories) cells.insert(cells.end(), t.begin(), t.end());
                 out.put<std::uint64_t>(length).put_span(std::span<const evo::GridCell>(cells));
                 has = 1;
             }
@@ -237,6 +207,20 @@ private:
         // a batch takes tens of microseconds: fewer than 8 a message would cost more than they save
         share_out(leader_, batches, 8, send_chunk, take, do_one);
         return results;
+    }
+
+private:
+    // a reply of `tag` from a worker, or an error naming the rank that sent something else
+    ByteReader reply(const mpi::Message& message, int tag) const {
+        if (message.tag != tag) {
+            throw Error(concat(session_.describe(message.source), " sent an unexpected message (tag ",
+                               message.tag, ")"));
+        }
+        return ByteReader(message.bytes);
+    }
+    // a reply whose items are not among those handed out
+    Error malformed(const mpi::Message& message) const {
+        return Error(concat(session_.describe(message.source), " sent results for items it was not given"));
     }
 
     MpiLeader& leader_;
@@ -271,7 +255,7 @@ std::string evaluate_chunk(const std::string& bytes, const sim::Task& task, cons
     out.put<std::uint64_t>(first).put<std::uint64_t>(genomes.size());
     for (const auto& result : results) put_evaluation(out, result);
     if (want) out.put_span(std::span<const float>(behaviours.data(), genomes.size() * width));
-    return out.bytes();
+    return out.take();  // not a copy: a reply can hold tens of MB
 }
 
 // the trajectories of the generation whose distances a worker computes
@@ -306,7 +290,7 @@ std::string distance_chunk(const std::string& bytes, PairSetting& setting, unsig
     ByteWriter out;
     out.put<std::uint64_t>(first).put_span(
         std::span<const float>(evo::pair_distances(pairs, setting.trajectories, setting.length, threads)));
-    return out.bytes();
+    return out.take();  // not a copy: a reply can hold tens of MB
 }
 
 }  // namespace
