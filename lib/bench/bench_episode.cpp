@@ -8,6 +8,8 @@
 #include "bench/fastsim_baseline.hpp"
 #include "bench/pointer_network.hpp"
 #include "bench/spec_genome.hpp"
+#include "core/error.hpp"
+#include "exp/evaluation.hpp"
 #include "nn/network.hpp"
 #include "sim/episode.hpp"
 #include "sim/task.hpp"
@@ -17,18 +19,19 @@ namespace stepstone::bench {
 namespace {
 
 constexpr long kEvaluationSteps = 12000;
+// policies a call evaluates: one batch of lanes (nn::NetworkLanes::kLanes)
+constexpr std::size_t kPolicies = 8;
 
-struct CandidateEpisode {
+// the policies as a run evaluates a population: exp::evaluate_all on one
+// thread, which steps them together in lanes
+struct CandidateEpisodes {
     std::shared_ptr<const sim::Task> task;
-    nn::Network network;
-    std::vector<float> behaviour;
-    std::vector<std::array<int, 2>> cells;
-    long steps = 0;
+    std::vector<nn::Genome> genomes;
+    std::vector<float> behaviours;
 
     std::uint64_t run() {
-        const auto result = sim::run_episode(*task, network, sim::Recording{behaviour, cells, nullptr});
-        steps = result.steps_run;
-        return 1;
+        exp::evaluate_all(*task, genomes, nn::DnnConfig{}, 1, &behaviours);
+        return genomes.size();
     }
 };
 
@@ -56,33 +59,39 @@ Workload make_episode_workload(Size) {
     auto arena = std::make_shared<const BitmapArena>();
     auto task = sim::make_task(sim::TaskConfig{});
 
-    // a network that keeps both robots moving for all 12,000 steps, so both
+    // networks that keep both robots moving for all 12,000 steps, so both
     // sides do whole evaluations (the stand-still rule would cut one short)
-    std::shared_ptr<BaselineEpisode> baseline;
-    std::shared_ptr<CandidateEpisode> candidate;
-    for (std::uint64_t seed = 1; seed <= 64; ++seed) {
+    std::vector<std::shared_ptr<BaselineEpisode>> baselines;
+    auto candidate = std::make_shared<CandidateEpisodes>();
+    candidate->task = task;
+    for (std::uint64_t seed = 1; seed <= 256 && baselines.size() < kPolicies; ++seed) {
         const NetworkSpec spec = random_network_spec(12, 15, 3, 120, seed);
-        baseline = std::make_shared<BaselineEpisode>(arena, spec);
-        candidate = std::make_shared<CandidateEpisode>();
-        candidate->task = task;
-        candidate->network = nn::Network(genome_from_spec(spec), nn::DnnConfig{});
-        candidate->behaviour.resize(task->behaviour_size());
-        candidate->cells.resize(task->cell_count());
-        check_same_network(baseline->network, candidate->network, 12, 3);
+        auto baseline = std::make_shared<BaselineEpisode>(arena, spec);
+        nn::Genome genome = genome_from_spec(spec);
+        nn::Network network(genome, nn::DnnConfig{});
+        check_same_network(baseline->network, network, 12, 3);
         baseline->run();
-        candidate->run();
-        if (baseline->steps == kEvaluationSteps && candidate->steps == kEvaluationSteps) break;
+        const long steps = exp::evaluate_genome(*task, genome, nn::DnnConfig{}).steps;
+        if (baseline->steps != kEvaluationSteps || steps != kEvaluationSteps) continue;
+        baselines.push_back(std::move(baseline));
+        candidate->genomes.push_back(std::move(genome));
     }
-    return Workload{[baseline] { return baseline->run(); }, [candidate] { return candidate->run(); }};
+    if (baselines.size() < kPolicies) throw DataError("bench episode: too few random networks keep moving");
+    const auto baseline_run = [baselines] {
+        for (const auto& baseline : baselines) baseline->run();
+        return static_cast<std::uint64_t>(baselines.size());
+    };
+    return Workload{baseline_run, [candidate] { return candidate->run(); }};
 }
 
 }  // namespace
 
 void add_episode_cases(Registry& registry) {
-    registry.add(Case{"episode", "evaluations",
-                      "12,000-step source evaluations with a 12-15-3 network and recording: lib/sim + nn vs bitmap + "
-                      "pointer network",
-                      8.0, make_episode_workload});
+    registry.add(
+        Case{"episode", "evaluations",
+             "8 12,000-step source evaluations with 12-15-3 networks and recording: exp::evaluate_all on "
+             "1 thread (lanes) vs bitmap + pointer network, one after the other",
+             8.0, make_episode_workload});
 }
 
 }  // namespace stepstone::bench

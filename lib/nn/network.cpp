@@ -127,15 +127,6 @@ void sigmoids_baseline(const float* scaled_biases, const float* sums, float* sta
 }
 #endif
 
-bool cpu_has_avx2() {
-#ifdef STEPSTONE_NN_HAVE_AVX2_KERNEL
-    __builtin_cpu_init();
-    return __builtin_cpu_supports("avx2");
-#else
-    return false;
-#endif
-}
-
 void dense_step(const DenseStep& s, [[maybe_unused]] bool avx2) {
 #ifdef STEPSTONE_NN_HAVE_AVX2_KERNEL
     if (avx2) return dense_step_avx2(s);
@@ -152,6 +143,15 @@ void sigmoid_step(const float* scaled_biases, const float* sums, float* states, 
 }
 
 }  // namespace
+
+bool cpu_has_avx2() {
+#ifdef STEPSTONE_NN_HAVE_AVX2_KERNEL
+    __builtin_cpu_init();
+    return __builtin_cpu_supports("avx2");
+#else
+    return false;
+#endif
+}
 
 Network::Network(const Genome& genome, const DnnConfig& config, Layout layout, Simd simd)
     : input_count_(genome.input_count()),

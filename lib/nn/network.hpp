@@ -10,6 +10,9 @@
 
 namespace stepstone::nn {
 
+/// Whether this CPU runs AVX2 (the vector kernels' faster build; x86-64 only).
+bool cpu_has_avx2();
+
 /// A Genome compiled to flat arrays for the episode loop (docs/original.md: network):
 /// one synchronous update per call of step(), every neuron reading the states
 /// of the previous step (an input -> output edge acts within the step, each

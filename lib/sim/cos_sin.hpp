@@ -28,15 +28,44 @@ struct CosSinMemo {
     }
 };
 
+/// The memos of one evaluation: the heading (odometry and sensors) and the
+/// arc angle of the last curved move (a controller holding or saturating its
+/// outputs turns by the same angle step after step).
+struct CosSinMemos {
+    CosSinMemo heading;
+    CosSinMemo turn;
+};
+
 namespace detail {
-inline thread_local CosSinMemo heading_memo;
+inline thread_local CosSinMemos thread_memos;
+inline thread_local CosSinMemos* current_memos = &thread_memos;
 }  // namespace detail
 
-/// std::cos and std::sin of `angle`, remembering the last angle asked on the
-/// calling thread: the odometry of a straight move and the sensors at the
+/// The memos cos_sin() and move_pose() use on this thread: the thread's own,
+/// or those of the evaluation a CosSinMemoScope names.
+inline CosSinMemos& current_memos() { return *detail::current_memos; }
+
+/// Makes `memos` the calling thread's memos until the scope ends (then the
+/// previous ones again): an Episode's step uses its own, so that evaluations
+/// stepped in turn on one thread (lanes of policies) keep their repeats.
+class CosSinMemoScope {
+public:
+    explicit CosSinMemoScope(CosSinMemos& memos) : previous_(detail::current_memos) {
+        detail::current_memos = &memos;
+    }
+    ~CosSinMemoScope() { detail::current_memos = previous_; }
+    CosSinMemoScope(const CosSinMemoScope&) = delete;
+    CosSinMemoScope& operator=(const CosSinMemoScope&) = delete;
+
+private:
+    CosSinMemos* previous_;
+};
+
+/// std::cos and std::sin of `angle`, remembering the last angle asked in the
+/// current memos: the odometry of a straight move and the sensors at the
 /// pose it reaches ask for the same heading. The memo holds the exact values
 /// (the angle is compared bit for bit), so results never depend on it, and
 /// each thread has its own.
-inline CosSin cos_sin(double angle) { return detail::heading_memo.get(angle); }
+inline CosSin cos_sin(double angle) { return current_memos().heading.get(angle); }
 
 }  // namespace stepstone::sim

@@ -45,6 +45,7 @@ Episode::Episode(const Task& task, const Recording& recording) : task_(&task), r
 
 void Episode::begin_start(int index) {
     STEPSTONE_ASSERT(index >= 0 && index < task_->config().starts);
+    const CosSinMemoScope scope(memos_);
     start_ = index;
     step_ = 0;
 
@@ -69,6 +70,7 @@ void Episode::read_inputs(float* inputs) const {
 
 void Episode::act(float* outputs) {
     STEPSTONE_ASSERT(start_ >= 0 && !stopped_);
+    const CosSinMemoScope scope(memos_);
 
     // outputs at the sim boundary: NaN counted and replaced by 0, then clamped
     for (int i = 0; i < kOutputs; ++i) {
@@ -174,6 +176,7 @@ void Episode::move(float left_output, float right_output) {
 }
 
 void Episode::set_pose(const Pose& pose) {
+    const CosSinMemoScope scope(memos_);
     pose_ = pose;
     sense(task_->arena(), task_->sight(), pose_, state_, readings_);
 }

@@ -1,11 +1,14 @@
 #pragma once
 
 #include <array>
+#include <bit>
 #include <cstddef>
 #include <cstdint>
 #include <span>
 #include <vector>
 
+#include "core/assert.hpp"
+#include "sim/cos_sin.hpp"
 #include "sim/robot.hpp"
 #include "sim/sensors.hpp"
 #include "sim/task.hpp"
@@ -127,6 +130,7 @@ private:
 
     const Task* task_;
     Recording recording_;
+    CosSinMemos memos_;  // this evaluation's repeats of cos and sin
     Pose pose_;
     WorldState state_;
     SensorReadings readings_;
@@ -177,6 +181,58 @@ EpisodeResult run_episode(const Task& task, Controller& controller, const Record
         }
     }
     return episode.finish();
+}
+
+/// Runs one evaluation per lane of `controller` in lockstep: lane l is
+/// `recordings[l]`'s, and its result and records are those run_episode gives
+/// the policy of lane l alone (each episode steps on its own; only the
+/// controller's step is shared). A lane whose evaluation the stand-still rule
+/// ends is left out of every later step. Controller concept:
+///   std::size_t lanes() const;                         // == recordings.size()
+///   void reset();                                      // every lane, at each start
+///   void set_inputs(std::size_t lane, const float*);   // 12 inputs of a lane
+///   void step();                                       // every lane
+///   void get_outputs(std::size_t lane, float*) const;  // 3 outputs of a lane
+/// Throws DataError on a mis-sized buffer.
+template <class Controller>
+std::vector<EpisodeResult> run_episodes(const Task& task, Controller& controller,
+                                        std::span<const Recording> recordings) {
+    const std::size_t lanes = recordings.size();
+    STEPSTONE_ASSERT(lanes == controller.lanes() && lanes <= 32);
+    std::vector<Episode> episodes;
+    episodes.reserve(lanes);
+    for (const Recording& recording : recordings) episodes.emplace_back(task, recording);
+    std::array<float, kInputs> inputs{};
+    std::array<float, kOutputs> outputs{};
+    const TaskConfig& config = task.config();
+    for (int start = 0; start < config.starts; ++start) {
+        std::uint32_t running = 0;  // bit l: lane l's evaluation goes on
+        for (std::size_t l = 0; l < lanes; ++l) {
+            if (episodes[l].stopped()) continue;
+            episodes[l].begin_start(start);
+            running |= 1u << l;
+        }
+        if (running == 0) break;
+        controller.reset();
+        for (int step = 0; step < config.steps_per_start && running != 0; ++step) {
+            for (std::uint32_t bits = running; bits != 0; bits &= bits - 1) {
+                const auto l = static_cast<std::size_t>(std::countr_zero(bits));
+                episodes[l].read_inputs(inputs.data());
+                controller.set_inputs(l, inputs.data());
+            }
+            controller.step();
+            for (std::uint32_t bits = running; bits != 0; bits &= bits - 1) {
+                const auto l = static_cast<std::size_t>(std::countr_zero(bits));
+                controller.get_outputs(l, outputs.data());
+                episodes[l].act(outputs.data());
+                if (episodes[l].stopped()) running &= ~(1u << l);
+            }
+        }
+    }
+    std::vector<EpisodeResult> results;
+    results.reserve(lanes);
+    for (Episode& episode : episodes) results.push_back(episode.finish());
+    return results;
 }
 
 }  // namespace stepstone::sim

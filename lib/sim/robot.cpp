@@ -7,14 +7,6 @@
 
 namespace stepstone::sim {
 
-namespace {
-
-// the arc angle of the last curved move: a controller holding its outputs
-// (or saturating them) turns by the same angle step after step
-thread_local CosSinMemo turn_memo;
-
-}  // namespace
-
 double normalize_angle(double angle) {
     // headings change by at most 0.2 rad per step, so one wrap is the common case
     while (angle > kPi) angle -= 2.0 * kPi;
@@ -37,7 +29,7 @@ Pose move_pose(const Pose& pose, double left, double right) {
     // an arc about the instantaneous centre, computed in the robot frame
     // (forward = local +y) and rotated by heading - pi/2 into the world
     const double radius = left / alpha + kWheelBase / 2.0;
-    const CosSin turn = turn_memo.get(alpha);
+    const CosSin turn = current_memos().turn.get(alpha);
     const double local_x = (turn.c - 1.0) * radius;
     const double local_y = turn.s * radius;
     const double c = std::cos(pose.heading - kPi / 2.0);

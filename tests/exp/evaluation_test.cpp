@@ -10,9 +10,48 @@
 #include "core/rng.hpp"
 #include "nn/dnn_config.hpp"
 #include "nn/genome.hpp"
+#include "nn/mutation.hpp"
 #include "sim/task.hpp"
 
 using namespace stepstone;
+
+namespace {
+
+// The oracle: each genome evaluated alone (one network, one run_episode), one
+// after the other. evaluate_all must give genome k the same evaluation and
+// behaviour matrix, in its own slot, with every thread count in `threads`.
+void require_evaluate_all_matches_alone(const sim::Task& task, const std::vector<nn::Genome>& genomes,
+                                        const nn::DnnConfig& dnn, std::initializer_list<unsigned> threads) {
+    const std::size_t width = task.behaviour_size();
+    std::vector<exp::Evaluation> alone;
+    std::vector<std::vector<float>> behaviours;
+    for (const auto& genome : genomes) {
+        behaviours.emplace_back(width);
+        alone.push_back(exp::evaluate_genome(task, genome, dnn, behaviours.back()));
+    }
+    REQUIRE(behaviours[0] != behaviours[1]);  // distinct policies, so a swap would show
+
+    for (unsigned thread_count : threads) {
+        INFO(thread_count << " threads");
+        std::vector<float> all;
+        const auto results = exp::evaluate_all(task, genomes, dnn, thread_count, &all);
+        REQUIRE(results.size() == genomes.size());
+        REQUIRE(all.size() == genomes.size() * width);
+        for (std::size_t k = 0; k < genomes.size(); ++k) {
+            INFO("genome " << k);
+            CHECK(results[k].reward == alone[k].reward);
+            CHECK(results[k].balls == alone[k].balls);
+            CHECK(results[k].steps == alone[k].steps);
+            CHECK(results[k].nan_outputs == alone[k].nan_outputs);
+            CHECK(results[k].milestones == alone[k].milestones);
+            CHECK(results[k].cells == alone[k].cells);
+            CHECK(std::equal(behaviours[k].begin(), behaviours[k].end(),
+                             all.begin() + static_cast<std::ptrdiff_t>(k * width)));
+        }
+    }
+}
+
+}  // namespace
 
 TEST_CASE("evaluate_all gives each genome its own evaluation and behaviour, whatever the thread count",
           "[exp][evaluation]") {
@@ -26,32 +65,46 @@ TEST_CASE("evaluate_all gives each genome its own evaluation and behaviour, what
         Rng rng(21, 0, k, Purpose::test);
         genomes.push_back(nn::Genome::random_perceptron(dnn, rng));
     }
-    // the oracle: each genome evaluated alone, one after the other
-    const std::size_t width = task->behaviour_size();
-    std::vector<exp::Evaluation> alone;
-    std::vector<std::vector<float>> behaviours;
-    for (const auto& genome : genomes) {
-        behaviours.emplace_back(width);
-        alone.push_back(exp::evaluate_genome(*task, genome, dnn, behaviours.back()));
-    }
-    REQUIRE(behaviours[0] != behaviours[1]);  // distinct policies, so a swap would show
+    require_evaluate_all_matches_alone(*task, genomes, dnn, {1u, 3u});
+}
 
-    for (unsigned threads : {1u, 3u}) {
-        INFO(threads << " threads");
-        std::vector<float> all;
-        const auto results = exp::evaluate_all(*task, genomes, dnn, threads, &all);
-        REQUIRE(results.size() == genomes.size());
-        REQUIRE(all.size() == genomes.size() * width);
-        for (std::size_t k = 0; k < genomes.size(); ++k) {
-            INFO("genome " << k);
-            CHECK(results[k].reward == alone[k].reward);
-            CHECK(results[k].steps == alone[k].steps);
-            CHECK(results[k].milestones == alone[k].milestones);
-            CHECK(results[k].cells == alone[k].cells);
-            CHECK(std::equal(behaviours[k].begin(), behaviours[k].end(),
-                             all.begin() + static_cast<std::ptrdiff_t>(k * width)));
-        }
+TEST_CASE("policies evaluated in lanes, in batches of any size, equal their evaluations alone",
+          "[exp][evaluation][lanes]") {
+    // a population of mixed sizes: grown genomes with 0 to ~30 hidden neurons
+    // (those above 24 are evaluated alone, the others in lanes, batched by
+    // size), some stopped early by the stand-still rule in any start
+    sim::TaskConfig config;
+    config.steps_per_start = 300;
+    config.starts = 3;
+    config.still_limit = 60;
+    const auto task = sim::make_task(config);
+    nn::DnnConfig dnn;
+    nn::DnnConfig growth = dnn;
+    growth.add_connection_rate = 0.6;
+    growth.add_neuron_rate = 0.5;
+    std::vector<nn::Genome> genomes;
+    for (std::uint64_t k = 0; k < 48; ++k) {
+        Rng rng(22, 0, k, Purpose::test);
+        nn::Genome genome = nn::Genome::random_perceptron(dnn, rng);
+        for (std::uint64_t round = 0; round < k + k % 7 * 4; ++round) nn::mutate(genome, growth, rng);
+        genomes.push_back(std::move(genome));
     }
+    int large = 0;
+    int stopped = 0;
+    int full = 0;
+    for (const auto& genome : genomes) large += genome.neuron_count() - 15 > 24 ? 1 : 0;
+    for (const auto& genome : genomes) {
+        const long steps = exp::evaluate_genome(*task, genome, dnn).steps;
+        stopped += steps < 900 ? 1 : 0;
+        full += steps == 900 ? 1 : 0;
+    }
+    REQUIRE(large >= 2);
+    REQUIRE(large <= 16);
+    REQUIRE(stopped >= 4);
+    REQUIRE(full >= 4);
+    // 1 thread: batches of 8; 3 threads: of 7 or so; 16 threads: too few a
+    // thread for lanes, every genome alone
+    require_evaluate_all_matches_alone(*task, genomes, dnn, {1u, 3u, 16u});
 }
 
 TEST_CASE("parallel_for calls the body once for every index and rethrows what a call threw",

@@ -33,21 +33,6 @@ std::vector<Network> all_layouts(const Genome& genome, const DnnConfig& config) 
     return nets;
 }
 
-// 12 inputs, 3 outputs, `hidden` hidden neurons; each valid pair connected
-// with probability `density`; random genes
-Genome random_genome(Rng& rng, std::size_t hidden, double density) {
-    Genome genome(12, 3);
-    for (std::size_t n = 0; n < hidden; ++n) genome.add_hidden(rng.uniform());
-    for (auto& bias : genome.biases()) bias = rng.uniform();
-    for (std::size_t source = 0; source < genome.neuron_count(); ++source) {
-        if (!genome.can_be_source(source)) continue;
-        for (std::size_t target = 12; target < genome.neuron_count(); ++target) {
-            if (rng.bernoulli(density)) genome.add_connection(source, target, rng.uniform());
-        }
-    }
-    return genome;
-}
-
 }  // namespace
 
 TEST_CASE("fast_exp agrees with std::exp to float precision", "[nn][activation]") {
@@ -150,7 +135,7 @@ TEST_CASE("wide networks span several groups of targets and still equal the refe
     const DnnConfig config;
     for (int trial = 0; trial < 24; ++trial) {
         const std::size_t hidden = 10 + static_cast<std::size_t>(trial) * 7 % 81;
-        const Genome genome = random_genome(rng, hidden, 0.05 + 0.3 * rng.uniform());
+        const Genome genome = nn_test::random_genome(rng, hidden, 0.05 + 0.3 * rng.uniform());
         std::vector<Network> flat = all_layouts(genome, config);
         ReferenceNetwork reference(genome, config);
         std::vector<float> inputs(12), reference_out(3), out(3);
@@ -224,9 +209,9 @@ TEST_CASE("small networks get the dense layout and large thin ones the sparse on
     // the initial perceptron and the benchmark's 12-15-3 shape
     const Genome perceptron = Genome::random_perceptron(config, rng);
     CHECK(Network(perceptron, config).layout() == Network::Layout::dense);
-    CHECK(Network(random_genome(rng, 15, 0.35), config).layout() == Network::Layout::dense);
+    CHECK(Network(nn_test::random_genome(rng, 15, 0.35), config).layout() == Network::Layout::dense);
     // 150 hidden neurons with about one edge in a hundred pairs
-    CHECK(Network(random_genome(rng, 150, 0.01), config).layout() == Network::Layout::sparse);
+    CHECK(Network(nn_test::random_genome(rng, 150, 0.01), config).layout() == Network::Layout::sparse);
     // a forced layout is kept
     CHECK(Network(perceptron, config, Network::Layout::sparse).layout() == Network::Layout::sparse);
     CHECK(!Network(perceptron, config, Network::Layout::dense, Network::Simd::baseline).uses_avx2());

@@ -32,6 +32,21 @@ inline Genome grown_genome(Rng& rng, int rounds, const DnnConfig& base = DnnConf
     return genome;
 }
 
+// 12 inputs, 3 outputs, `hidden` hidden neurons; each valid pair connected
+// with probability `density`; random genes
+inline Genome random_genome(Rng& rng, std::size_t hidden, double density) {
+    Genome genome(12, 3);
+    for (std::size_t n = 0; n < hidden; ++n) genome.add_hidden(rng.uniform());
+    for (auto& bias : genome.biases()) bias = rng.uniform();
+    for (std::size_t source = 0; source < genome.neuron_count(); ++source) {
+        if (!genome.can_be_source(source)) continue;
+        for (std::size_t target = 12; target < genome.neuron_count(); ++target) {
+            if (rng.bernoulli(density)) genome.add_connection(source, target, rng.uniform());
+        }
+    }
+    return genome;
+}
+
 inline void require_invariants(const Genome& genome) {
     std::set<std::pair<std::uint32_t, std::uint32_t>> seen;
     for (const auto& c : genome.connections()) {

@@ -1,0 +1,158 @@
+#include "nn/network_lanes.hpp"
+
+#include <algorithm>
+#include <cstring>
+#include <string>
+#include <utility>
+
+#include "core/assert.hpp"
+#include "core/error.hpp"
+#include "nn/activation.hpp"
+#include "nn/reference_network.hpp"
+
+namespace stepstone::nn {
+
+namespace {
+
+// One value per network of the batch (GCC/Clang vector extension, plain
+// lane-wise IEEE arithmetic): an AVX register, or two SSE ones in the
+// baseline build.
+typedef float Lanes __attribute__((vector_size(NetworkLanes::kLanes * sizeof(float))));
+constexpr std::size_t kLanes = NetworkLanes::kLanes;
+
+// Columns summed in one pass over the rows: their accumulators, the row's
+// states and a product fill the 16 AVX registers.
+constexpr std::size_t kBlockColumns = 12;
+
+struct LaneStep {
+    const float* weights;        // rows x columns x kLanes
+    const float* scaled_biases;  // columns x kLanes
+    float* states;               // rows x kLanes
+    float* computed;             // columns x kLanes
+    std::size_t rows;
+    std::size_t columns;
+    std::size_t input_count;
+    std::size_t output_count;
+};
+
+[[gnu::always_inline]] inline void load(Lanes& v, const float* p) { std::memcpy(&v, p, sizeof v); }
+
+[[gnu::always_inline]] inline void store(float* p, const Lanes& v) { std::memcpy(p, &v, sizeof v); }
+
+// Sums of `Columns` columns from `first`: for each row in ascending order,
+// acc[c] += x_row * w[row][c], every lane on its own network.
+template <std::size_t Columns>
+[[gnu::always_inline]] inline void column_block(const LaneStep& s, std::size_t first) {
+    Lanes acc[Columns] = {};
+    const float* w = s.weights + first * kLanes;
+    for (std::size_t r = 0; r < s.rows; ++r, w += s.columns * kLanes) {
+        Lanes x;
+        load(x, s.states + r * kLanes);
+#pragma GCC unroll 12
+        for (std::size_t c = 0; c < Columns; ++c) {
+            Lanes weights;
+            load(weights, w + c * kLanes);
+            acc[c] += x * weights;
+        }
+    }
+#pragma GCC unroll 12
+    for (std::size_t c = 0; c < Columns; ++c) store(s.computed + (first + c) * kLanes, acc[c]);
+}
+
+template <std::size_t... Sizes>
+[[gnu::always_inline]] inline void column_tail(const LaneStep& s, std::size_t first, std::size_t count,
+                                               std::index_sequence<Sizes...>) {
+    // the block of the remaining `count` columns, 1 <= count < kBlockColumns
+    ((count == Sizes + 1 ? column_block<Sizes + 1>(s, first) : void()), ...);
+}
+
+[[gnu::always_inline]] inline void lane_step(const LaneStep& s) {
+    std::size_t first = 0;
+    for (; first + kBlockColumns <= s.columns; first += kBlockColumns) column_block<kBlockColumns>(s, first);
+    if (first < s.columns)
+        column_tail(s, first, s.columns - first, std::make_index_sequence<kBlockColumns - 1>{});
+    // every sum's sigmoid, once the sums are out of registers
+    for (std::size_t c = 0; c < s.columns; ++c) {
+        Lanes bias;
+        Lanes sum;
+        load(bias, s.scaled_biases + c * kLanes);
+        load(sum, s.computed + c * kLanes);
+        sigmoid_lanes(bias, sum);
+        store(s.computed + c * kLanes, sum);
+    }
+    // the new hidden states become the next step's rows (every sum above read the old ones)
+    const std::size_t hidden = s.columns - s.output_count;
+    std::memcpy(s.states + s.input_count * kLanes, s.computed + s.output_count * kLanes,
+                hidden * kLanes * sizeof(float));
+}
+
+// built twice from the same source, as Network's kernels are: both compute the same bits
+void lane_step_baseline(const LaneStep& s) { lane_step(s); }
+
+#if defined(__x86_64__) || defined(__i386__)
+[[gnu::target("avx2")]] void lane_step_avx2(const LaneStep& s) { lane_step(s); }
+#endif
+
+}  // namespace
+
+NetworkLanes::NetworkLanes(std::span<const Genome* const> genomes, const DnnConfig& config,
+                           Network::Simd simd) {
+    if (genomes.empty() || genomes.size() > kLanes) {
+        throw DataError("a batch of networks holds 1 to 8 genomes, not " + std::to_string(genomes.size()));
+    }
+    lanes_ = genomes.size();
+    input_count_ = genomes[0]->input_count();
+    output_count_ = genomes[0]->output_count();
+    std::size_t hidden = 0;
+    for (const Genome* genome : genomes) {
+        if (genome->input_count() != input_count_ || genome->output_count() != output_count_) {
+            throw DataError("the networks of a batch must have the same input and output counts");
+        }
+        hidden = std::max(hidden, genome->neuron_count() - input_count_ - output_count_);
+    }
+    rows_ = input_count_ + hidden;
+    columns_ = output_count_ + hidden;
+    avx2_ = simd == Network::Simd::automatic && cpu_has_avx2();
+
+    weights_.assign(rows_ * columns_ * kLanes, 0.0f);
+    scaled_biases_.assign(columns_ * kLanes, 0.0f);
+    states_.assign(rows_ * kLanes, 0.0f);
+    computed_.assign(columns_ * kLanes, 0.0f);
+    for (std::size_t lane = 0; lane < lanes_; ++lane) {
+        const Genome& genome = *genomes[lane];
+        // neurons: inputs, outputs, hidden; a column is a neuron after the inputs
+        for (std::size_t k = input_count_; k < genome.neuron_count(); ++k) {
+            scaled_biases_[(k - input_count_) * kLanes + lane] =
+                developed_scaled_bias(genome.biases()[k], config);
+        }
+        for (const auto& c : genome.connections()) {
+            STEPSTONE_ASSERT(genome.can_be_source(c.source));
+            const std::size_t row = c.source < input_count_ ? c.source : c.source - output_count_;
+            const std::size_t column = c.target - input_count_;
+            weights_[(row * columns_ + column) * kLanes + lane] = developed_weight(c.weight, config);
+        }
+    }
+}
+
+void NetworkLanes::reset() { std::fill(states_.begin(), states_.end(), 0.0f); }
+
+void NetworkLanes::set_inputs(std::size_t lane, const float* inputs) {
+    STEPSTONE_ASSERT(lane < lanes_);
+    for (std::size_t i = 0; i < input_count_; ++i) states_[i * kLanes + lane] = inputs[i];
+}
+
+void NetworkLanes::step() {
+    const LaneStep s{weights_.data(), scaled_biases_.data(), states_.data(), computed_.data(), rows_,
+                     columns_,        input_count_,          output_count_};
+#if defined(__x86_64__) || defined(__i386__)
+    if (avx2_) return lane_step_avx2(s);
+#endif
+    lane_step_baseline(s);
+}
+
+void NetworkLanes::get_outputs(std::size_t lane, float* outputs) const {
+    STEPSTONE_ASSERT(lane < lanes_);
+    for (std::size_t o = 0; o < output_count_; ++o) outputs[o] = computed_[o * kLanes + lane];
+}
+
+}  // namespace stepstone::nn
