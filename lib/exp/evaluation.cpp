@@ -13,12 +13,15 @@ namespace stepstone::exp {
 
 namespace {
 
-// Genomes with more hidden neurons than this are evaluated alone: a batch
-// pays its largest network's rows x columns in every lane.
+// Genomes with more hidden neurons than this are evaluated alone: lanes pay
+// their room's rows x columns in every lane.
 constexpr std::size_t kLaneMaxHidden = 24;
-// Fewer policies than this in a batch cost more in lanes than alone (every
-// lane's vector work is paid whatever the lanes in use).
-constexpr std::size_t kLaneMinBatch = 4;
+// A queue shorter than this costs more in lanes than alone (every lane's
+// vector work is paid whatever the lanes in use).
+constexpr std::size_t kLaneMinQueue = 4;
+// The longest queue of one work item: 4 genomes a lane, so that a thread's
+// items stay of similar network sizes and the threads share the work.
+constexpr std::size_t kLaneMaxQueue = 4 * nn::NetworkLanes::kLanes;
 
 Evaluation to_evaluation(const sim::EpisodeResult& result, std::span<const std::array<int, 2>> cells) {
     Evaluation evaluation;
@@ -38,13 +41,13 @@ std::size_t hidden_count(const nn::Genome& genome) {
     return genome.neuron_count() - genome.input_count() - genome.output_count();
 }
 
-// The work items of evaluate_all: batches of genome indices evaluated in
+// The work items of evaluate_all: queues of genome indices evaluated in
 // lanes, and single genomes. Genomes small enough for lanes are ordered by
-// hidden-neuron count (then index), so a batch holds networks of similar
-// size, and cut into batches of up to 8, fewer when several threads would
-// not get two batches each. The plan only decides speed: every genome's evaluation
-// is the same in a batch or alone.
-std::vector<std::vector<std::size_t>> plan_batches(std::span<const nn::Genome> genomes, unsigned threads) {
+// hidden-neuron count (then index), so a queue holds networks of similar
+// size, and cut into queues of up to kLaneMaxQueue, shorter when several
+// threads would not get two queues each. The plan only decides speed: every
+// genome's evaluation is the same in a queue or alone.
+std::vector<std::vector<std::size_t>> plan_work(std::span<const nn::Genome> genomes, unsigned threads) {
     std::vector<std::size_t> small;
     std::vector<std::vector<std::size_t>> items;
     for (std::size_t k = 0; k < genomes.size(); ++k) {
@@ -59,10 +62,10 @@ std::vector<std::vector<std::size_t>> plan_batches(std::span<const nn::Genome> g
     });
     const unsigned thread_count = resolve_threads(threads);
     const std::size_t share = thread_count == 1 ? small.size() : small.size() / (2 * thread_count);
-    const std::size_t per_batch = std::min(nn::NetworkLanes::kLanes, std::max<std::size_t>(1, share));
-    for (std::size_t first = 0; first < small.size(); first += per_batch) {
-        const std::size_t count = std::min(per_batch, small.size() - first);
-        if (count >= kLaneMinBatch) {
+    const std::size_t per_queue = std::min(kLaneMaxQueue, std::max<std::size_t>(1, share));
+    for (std::size_t first = 0; first < small.size(); first += per_queue) {
+        const std::size_t count = std::min(per_queue, small.size() - first);
+        if (count >= kLaneMinQueue) {
             items.emplace_back(small.begin() + static_cast<std::ptrdiff_t>(first),
                                small.begin() + static_cast<std::ptrdiff_t>(first + count));
         } else {
@@ -72,25 +75,41 @@ std::vector<std::vector<std::size_t>> plan_batches(std::span<const nn::Genome> g
     return items;
 }
 
-// Evaluates genomes[indices] in lanes, each result in its own slot.
-void evaluate_batch(const sim::Task& task, std::span<const nn::Genome> genomes,
-                    std::span<const std::size_t> indices, const nn::DnnConfig& dnn,
+// Evaluates genomes[queue] in lanes, each result in its own slot.
+void evaluate_queue(const sim::Task& task, std::span<const nn::Genome> genomes,
+                    std::span<const std::size_t> queue, const nn::DnnConfig& dnn,
                     std::vector<float>* behaviours, std::span<Evaluation> results) {
-    std::vector<const nn::Genome*> batch;
-    for (std::size_t k : indices) batch.push_back(&genomes[k]);
-    nn::NetworkLanes network(batch, dnn);
+    std::size_t max_hidden = 0;
+    for (std::size_t k : queue) max_hidden = std::max(max_hidden, hidden_count(genomes[k]));
+    const nn::Genome& first = genomes[queue[0]];
+    nn::NetworkLanes network(first.input_count(), first.output_count(), max_hidden, dnn);
+    struct Controller {
+        nn::NetworkLanes& network;
+        std::span<const nn::Genome> genomes;
+        std::span<const std::size_t> queue;
+        std::size_t lanes() const { return network.lanes(); }
+        void load(std::size_t lane, std::size_t job) { network.load(lane, genomes[queue[job]]); }
+        void reset(std::size_t lane) { network.reset(lane); }
+        void set_inputs(std::size_t lane, const float* inputs) { network.set_inputs(lane, inputs); }
+        void step() { network.step(); }
+        void get_outputs(std::size_t lane, float* outputs) const { network.get_outputs(lane, outputs); }
+    } controller{network, genomes, queue};
+
     const std::size_t width = behaviours ? task.behaviour_size() : 0;
-    std::vector<std::array<int, 2>> cells(indices.size() * task.cell_count());
-    std::vector<sim::Recording> recordings(indices.size());
-    for (std::size_t l = 0; l < indices.size(); ++l) {
+    const std::size_t cell_count = task.cell_count();
+    // one cell buffer a lane would do; one a job keeps the bookkeeping plain
+    std::vector<std::array<int, 2>> cells(queue.size() * cell_count);
+    const auto recording_of = [&](std::size_t job) {
+        sim::Recording recording;
         if (behaviours)
-            recordings[l].behaviour = std::span<float>(behaviours->data() + indices[l] * width, width);
-        recordings[l].cells = std::span(cells).subspan(l * task.cell_count(), task.cell_count());
-    }
-    const auto outcomes = sim::run_episodes(task, network, recordings);
-    for (std::size_t l = 0; l < indices.size(); ++l) {
-        results[indices[l]] = to_evaluation(outcomes[l], recordings[l].cells);
-    }
+            recording.behaviour = std::span<float>(behaviours->data() + queue[job] * width, width);
+        recording.cells = std::span(cells).subspan(job * cell_count, cell_count);
+        return recording;
+    };
+    const auto done = [&](std::size_t job, const sim::EpisodeResult& result) {
+        results[queue[job]] = to_evaluation(result, std::span(cells).subspan(job * cell_count, cell_count));
+    };
+    sim::run_episode_queue(task, controller, queue.size(), recording_of, done);
 }
 
 }  // namespace
@@ -118,11 +137,11 @@ std::vector<Evaluation> evaluate_all(const sim::Task& task, std::span<const nn::
     // no zero fill: every evaluation writes its whole matrix (an early stop pads it), and a
     // buffer kept from the last call keeps its pages
     if (behaviours) behaviours->resize(genomes.size() * width);
-    const auto items = plan_batches(genomes, threads);
+    const auto items = plan_work(genomes, threads);
     parallel_for(items.size(), threads, [&](std::size_t i) {
         if (InterruptGuard::received()) return;  // abandoned: thrown below
         const std::vector<std::size_t>& item = items[i];
-        if (item.size() > 1) return evaluate_batch(task, genomes, item, dnn, behaviours, results);
+        if (item.size() > 1) return evaluate_queue(task, genomes, item, dnn, behaviours, results);
         const std::size_t k = item[0];
         std::span<float> behaviour;
         if (behaviours) behaviour = std::span<float>(behaviours->data() + k * width, width);

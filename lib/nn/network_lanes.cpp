@@ -95,46 +95,77 @@ void lane_step_baseline(const LaneStep& s) { lane_step(s); }
 
 }  // namespace
 
-NetworkLanes::NetworkLanes(std::span<const Genome* const> genomes, const DnnConfig& config,
-                           Network::Simd simd) {
-    if (genomes.empty() || genomes.size() > kLanes) {
+namespace {
+
+std::size_t hidden_count(const Genome& genome) {
+    return genome.neuron_count() - genome.input_count() - genome.output_count();
+}
+
+std::size_t largest_hidden(std::span<const Genome* const> genomes) {
+    if (genomes.empty() || genomes.size() > NetworkLanes::kLanes) {
         throw DataError("a batch of networks holds 1 to 8 genomes, not " + std::to_string(genomes.size()));
     }
-    lanes_ = genomes.size();
-    input_count_ = genomes[0]->input_count();
-    output_count_ = genomes[0]->output_count();
     std::size_t hidden = 0;
-    for (const Genome* genome : genomes) {
-        if (genome->input_count() != input_count_ || genome->output_count() != output_count_) {
-            throw DataError("the networks of a batch must have the same input and output counts");
-        }
-        hidden = std::max(hidden, genome->neuron_count() - input_count_ - output_count_);
-    }
-    rows_ = input_count_ + hidden;
-    columns_ = output_count_ + hidden;
-    avx2_ = simd == Network::Simd::automatic && cpu_has_avx2();
+    for (const Genome* genome : genomes) hidden = std::max(hidden, hidden_count(*genome));
+    return hidden;
+}
 
+}  // namespace
+
+NetworkLanes::NetworkLanes(std::size_t inputs, std::size_t outputs, std::size_t max_hidden,
+                           const DnnConfig& config, Network::Simd simd)
+    : config_(config),
+      lanes_(kLanes),
+      input_count_(inputs),
+      output_count_(outputs),
+      rows_(inputs + max_hidden),
+      columns_(outputs + max_hidden),
+      avx2_(simd == Network::Simd::automatic && cpu_has_avx2()) {
     weights_.assign(rows_ * columns_ * kLanes, 0.0f);
     scaled_biases_.assign(columns_ * kLanes, 0.0f);
     states_.assign(rows_ * kLanes, 0.0f);
     computed_.assign(columns_ * kLanes, 0.0f);
-    for (std::size_t lane = 0; lane < lanes_; ++lane) {
-        const Genome& genome = *genomes[lane];
-        // neurons: inputs, outputs, hidden; a column is a neuron after the inputs
-        for (std::size_t k = input_count_; k < genome.neuron_count(); ++k) {
-            scaled_biases_[(k - input_count_) * kLanes + lane] =
-                developed_scaled_bias(genome.biases()[k], config);
-        }
-        for (const auto& c : genome.connections()) {
-            STEPSTONE_ASSERT(genome.can_be_source(c.source));
-            const std::size_t row = c.source < input_count_ ? c.source : c.source - output_count_;
-            const std::size_t column = c.target - input_count_;
-            weights_[(row * columns_ + column) * kLanes + lane] = developed_weight(c.weight, config);
-        }
+}
+
+NetworkLanes::NetworkLanes(std::span<const Genome* const> genomes, const DnnConfig& config,
+                           Network::Simd simd)
+    : NetworkLanes(genomes.empty() ? 0 : genomes[0]->input_count(),
+                   genomes.empty() ? 0 : genomes[0]->output_count(), largest_hidden(genomes), config, simd) {
+    lanes_ = genomes.size();
+    for (std::size_t lane = 0; lane < lanes_; ++lane) load(lane, *genomes[lane]);
+}
+
+void NetworkLanes::load(std::size_t lane, const Genome& genome) {
+    STEPSTONE_ASSERT(lane < lanes_);
+    if (genome.input_count() != input_count_ || genome.output_count() != output_count_) {
+        throw DataError("the networks of a batch must have the same input and output counts");
     }
+    if (hidden_count(genome) > max_hidden()) {
+        throw DataError("a network of " + std::to_string(hidden_count(genome)) +
+                        " hidden neurons does not fit lanes made for " + std::to_string(max_hidden()));
+    }
+    for (std::size_t cell = 0; cell < rows_ * columns_; ++cell) weights_[cell * kLanes + lane] = 0.0f;
+    for (std::size_t column = 0; column < columns_; ++column) scaled_biases_[column * kLanes + lane] = 0.0f;
+    // neurons: inputs, outputs, hidden; a column is a neuron after the inputs
+    for (std::size_t k = input_count_; k < genome.neuron_count(); ++k) {
+        scaled_biases_[(k - input_count_) * kLanes + lane] =
+            developed_scaled_bias(genome.biases()[k], config_);
+    }
+    for (const auto& c : genome.connections()) {
+        STEPSTONE_ASSERT(genome.can_be_source(c.source));
+        const std::size_t row = c.source < input_count_ ? c.source : c.source - output_count_;
+        const std::size_t column = c.target - input_count_;
+        weights_[(row * columns_ + column) * kLanes + lane] = developed_weight(c.weight, config_);
+    }
+    reset(lane);
 }
 
 void NetworkLanes::reset() { std::fill(states_.begin(), states_.end(), 0.0f); }
+
+void NetworkLanes::reset(std::size_t lane) {
+    STEPSTONE_ASSERT(lane < lanes_);
+    for (std::size_t r = 0; r < rows_; ++r) states_[r * kLanes + lane] = 0.0f;
+}
 
 void NetworkLanes::set_inputs(std::size_t lane, const float* inputs) {
     STEPSTONE_ASSERT(lane < lanes_);

@@ -17,28 +17,39 @@ namespace stepstone::nn {
 /// The networks may differ in hidden neurons and edges; they share the input
 /// and output counts. Each is laid out as the dense Network is (one row per
 /// input, then per hidden neuron; one column per output, then per hidden
-/// neuron; 0 where there is no edge), padded to the largest of the batch, and
-/// lane l holds network l's weights. A step adds x_row * w_row for the rows
-/// in ascending order, as Network does, and applies the same sigmoid to each
-/// lane, so lane l's outputs are those of Network(genomes[l]) bit for bit,
-/// whatever its neighbours. A padding row or column adds 0 * x (x finite),
-/// which leaves a float sum unchanged.
+/// neuron; 0 where there is no edge), padded to the room the lanes were made
+/// with, and lane l holds network l's weights. A step adds x_row * w_row for
+/// the rows in ascending order, as Network does, and applies the same sigmoid
+/// to each lane, so lane l's outputs are those of Network(genome l) bit for
+/// bit, whatever its neighbours. A padding row or column adds 0 * x (x
+/// finite), which leaves a float sum unchanged.
 ///
-/// The cost of a step is that of the largest network for every lane, so a
-/// batch is best made of networks of similar size (see lanes_cost()).
+/// A step costs rows x columns vector multiply-adds for all lanes, so lanes
+/// are best filled with networks of similar size. A lane can take a new
+/// network at any time (load()), the others going on.
 class NetworkLanes {
 public:
-    /// Networks per batch: the float lanes of an AVX register.
+    /// Networks at once: the float lanes of an AVX register.
     static constexpr std::size_t kLanes = 8;
 
-    /// Compiles `genomes` (1 to kLanes, with equal input and output counts)
-    /// with the ranges and bias scale of `config`; every state is 0. `simd`
-    /// only affects speed, never a result.
+    /// Room for kLanes networks of `inputs` inputs, `outputs` outputs and at
+    /// most `max_hidden` hidden neurons, compiled with the ranges and bias
+    /// scale of `config`; every lane empty (no edge) and every state 0.
+    /// `simd` only affects speed, never a result.
+    NetworkLanes(std::size_t inputs, std::size_t outputs, std::size_t max_hidden, const DnnConfig& config,
+                 Network::Simd simd = Network::Simd::automatic);
+    /// `genomes` (1 to kLanes, with equal input and output counts) in lanes 0
+    /// to genomes.size() - 1, with room for the largest; lanes() is their count.
     NetworkLanes(std::span<const Genome* const> genomes, const DnnConfig& config,
                  Network::Simd simd = Network::Simd::automatic);
 
+    /// Puts `genome` in lane `lane`, its states 0. Throws DataError when its
+    /// input or output count differs or it has more hidden neurons than the room.
+    void load(std::size_t lane, const Genome& genome);
     /// Sets every neuron state of every lane to 0.
     void reset();
+    /// Sets every neuron state of lane `lane` to 0.
+    void reset(std::size_t lane);
     /// Writes lane `lane`'s input_count() inputs for the next step.
     void set_inputs(std::size_t lane, const float* inputs);
     /// One update of every lane.
@@ -46,22 +57,20 @@ public:
     /// Reads lane `lane`'s output_count() outputs of the last step.
     void get_outputs(std::size_t lane, float* outputs) const;
 
+    /// Lanes in use: kLanes, or the genomes' count for the second constructor.
     std::size_t lanes() const { return lanes_; }
     std::size_t input_count() const { return input_count_; }
     std::size_t output_count() const { return output_count_; }
-
-    /// Vector multiply-adds of a step for a network of `hidden` hidden
-    /// neurons, `inputs` inputs and `outputs` outputs (rows x columns).
-    static std::size_t lanes_cost(std::size_t inputs, std::size_t outputs, std::size_t hidden) {
-        return (inputs + hidden) * (outputs + hidden);
-    }
+    /// The most hidden neurons a lane's network may have.
+    std::size_t max_hidden() const { return rows_ - input_count_; }
 
 private:
+    DnnConfig config_;
     std::size_t lanes_ = 0;
     std::size_t input_count_ = 0;
     std::size_t output_count_ = 0;
-    std::size_t rows_ = 0;     // inputs + the largest hidden count
-    std::size_t columns_ = 0;  // outputs + the largest hidden count
+    std::size_t rows_ = 0;     // inputs + the room for hidden neurons
+    std::size_t columns_ = 0;  // outputs + the room for hidden neurons
     bool avx2_ = false;
     std::vector<float> weights_;        // rows_ x columns_ x kLanes
     std::vector<float> scaled_biases_;  // columns_ x kLanes (padding 0)

@@ -1,9 +1,11 @@
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <bit>
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -183,56 +185,77 @@ EpisodeResult run_episode(const Task& task, Controller& controller, const Record
     return episode.finish();
 }
 
-/// Runs one evaluation per lane of `controller` in lockstep: lane l is
-/// `recordings[l]`'s, and its result and records are those run_episode gives
-/// the policy of lane l alone (each episode steps on its own; only the
-/// controller's step is shared). A lane whose evaluation the stand-still rule
-/// ends is left out of every later step. Controller concept:
-///   std::size_t lanes() const;                         // == recordings.size()
-///   void reset();                                      // every lane, at each start
+/// Runs evaluations 0 to jobs - 1 in the lanes of `controller`: every lane
+/// runs one evaluation at a time, step by step with the other lanes (only the
+/// controller's step is shared), and takes the next job as soon as its
+/// evaluation ends, by the stand-still rule or after its last start. Each
+/// job's result and records are those run_episode gives its policy alone.
+/// `recording_of(job)` gives a job's Recording; `done(job, result)` receives
+/// its EpisodeResult once its records are complete. Controller concept:
+///   std::size_t lanes() const;                         // lanes to fill, 1 to 32
+///   void load(std::size_t lane, std::size_t job);      // the job's policy, states 0
+///   void reset(std::size_t lane);                      // states 0, at each start
 ///   void set_inputs(std::size_t lane, const float*);   // 12 inputs of a lane
 ///   void step();                                       // every lane
 ///   void get_outputs(std::size_t lane, float*) const;  // 3 outputs of a lane
 /// Throws DataError on a mis-sized buffer.
-template <class Controller>
-std::vector<EpisodeResult> run_episodes(const Task& task, Controller& controller,
-                                        std::span<const Recording> recordings) {
-    const std::size_t lanes = recordings.size();
-    STEPSTONE_ASSERT(lanes == controller.lanes() && lanes <= 32);
-    std::vector<Episode> episodes;
-    episodes.reserve(lanes);
-    for (const Recording& recording : recordings) episodes.emplace_back(task, recording);
+template <class Controller, class RecordingOf, class Done>
+void run_episode_queue(const Task& task, Controller& controller, std::size_t jobs, RecordingOf&& recording_of,
+                       Done&& done) {
+    const std::size_t lanes = std::min(controller.lanes(), jobs);
+    STEPSTONE_ASSERT(lanes <= 32);
+    const TaskConfig& config = task.config();
+    struct Lane {
+        std::size_t job = 0;
+        int start = 0;
+        int step = 0;  // within the start
+    };
+    std::vector<Lane> lane_state(lanes);
+    std::vector<std::optional<Episode>> episodes(lanes);
+    std::size_t next_job = 0;
+    std::uint32_t running = 0;  // bit l: lane l runs an evaluation
+    const auto take_next_job = [&](std::size_t l) {
+        const std::size_t job = next_job++;
+        controller.load(l, job);
+        episodes[l].emplace(task, recording_of(job));
+        lane_state[l] = Lane{job, 0, 0};
+        episodes[l]->begin_start(0);
+        running |= 1u << l;
+    };
+    for (std::size_t l = 0; l < lanes; ++l) take_next_job(l);
+
     std::array<float, kInputs> inputs{};
     std::array<float, kOutputs> outputs{};
-    const TaskConfig& config = task.config();
-    for (int start = 0; start < config.starts; ++start) {
-        std::uint32_t running = 0;  // bit l: lane l's evaluation goes on
-        for (std::size_t l = 0; l < lanes; ++l) {
-            if (episodes[l].stopped()) continue;
-            episodes[l].begin_start(start);
-            running |= 1u << l;
+    while (running != 0) {
+        for (std::uint32_t bits = running; bits != 0; bits &= bits - 1) {
+            const auto l = static_cast<std::size_t>(std::countr_zero(bits));
+            episodes[l]->read_inputs(inputs.data());
+            controller.set_inputs(l, inputs.data());
         }
-        if (running == 0) break;
-        controller.reset();
-        for (int step = 0; step < config.steps_per_start && running != 0; ++step) {
-            for (std::uint32_t bits = running; bits != 0; bits &= bits - 1) {
-                const auto l = static_cast<std::size_t>(std::countr_zero(bits));
-                episodes[l].read_inputs(inputs.data());
-                controller.set_inputs(l, inputs.data());
+        controller.step();
+        for (std::uint32_t bits = running; bits != 0; bits &= bits - 1) {
+            const auto l = static_cast<std::size_t>(std::countr_zero(bits));
+            Episode& episode = *episodes[l];
+            Lane& lane = lane_state[l];
+            controller.get_outputs(l, outputs.data());
+            episode.act(outputs.data());
+            // run_episode's loops: the next step, else the next start, else the end
+            bool ended = episode.stopped();
+            if (!ended && ++lane.step == config.steps_per_start) {
+                lane.step = 0;
+                if (++lane.start == config.starts) {
+                    ended = true;
+                } else {
+                    episode.begin_start(lane.start);
+                    controller.reset(l);
+                }
             }
-            controller.step();
-            for (std::uint32_t bits = running; bits != 0; bits &= bits - 1) {
-                const auto l = static_cast<std::size_t>(std::countr_zero(bits));
-                controller.get_outputs(l, outputs.data());
-                episodes[l].act(outputs.data());
-                if (episodes[l].stopped()) running &= ~(1u << l);
-            }
+            if (!ended) continue;
+            done(lane.job, episode.finish());
+            running &= ~(1u << l);
+            if (next_job < jobs) take_next_job(l);
         }
     }
-    std::vector<EpisodeResult> results;
-    results.reserve(lanes);
-    for (Episode& episode : episodes) results.push_back(episode.finish());
-    return results;
 }
 
 }  // namespace stepstone::sim

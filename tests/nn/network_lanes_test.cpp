@@ -109,6 +109,55 @@ TEST_CASE("batches of every column count, across the kernel's blocks of 12", "[n
     }
 }
 
+TEST_CASE("a lane takes a new network while the others go on", "[nn][network][lanes]") {
+    // lanes made with room for 10 hidden neurons; every few steps one lane
+    // takes the next genome of a queue (its states 0) and must then step as
+    // that genome's network alone from a reset, the other lanes undisturbed
+    Rng rng(34);
+    const DnnConfig config;
+    std::vector<Genome> queue;
+    for (int k = 0; k < 40; ++k)
+        queue.push_back(nn_test::random_genome(rng, static_cast<std::size_t>(k % 11), 0.3));
+    NetworkLanes lanes(12, 3, 10, config);
+    REQUIRE(lanes.lanes() == NetworkLanes::kLanes);
+    REQUIRE(lanes.max_hidden() == 10);
+    std::vector<std::unique_ptr<ReferenceNetwork>> references(NetworkLanes::kLanes);
+    std::size_t next = 0;
+    for (std::size_t l = 0; l < NetworkLanes::kLanes; ++l) {
+        lanes.load(l, queue[next]);
+        references[l] = std::make_unique<ReferenceNetwork>(queue[next++], config);
+    }
+    std::vector<float> inputs(12), expected(3), got(3);
+    for (int step = 0; step < 400; ++step) {
+        if (step % 13 == 5 && next < queue.size()) {
+            const std::size_t l = static_cast<std::size_t>(step) % NetworkLanes::kLanes;
+            lanes.load(l, queue[next]);
+            references[l] = std::make_unique<ReferenceNetwork>(queue[next++], config);
+        }
+        if (step % 29 == 11) {  // a new start of one lane
+            const std::size_t l = static_cast<std::size_t>(step / 29) % NetworkLanes::kLanes;
+            lanes.reset(l);
+            references[l]->reset();
+        }
+        std::vector<std::vector<float>> all_inputs;
+        for (std::size_t l = 0; l < NetworkLanes::kLanes; ++l) {
+            for (auto& x : inputs) x = static_cast<float>(rng.uniform());
+            all_inputs.push_back(inputs);
+            lanes.set_inputs(l, inputs.data());
+        }
+        lanes.step();
+        for (std::size_t l = 0; l < NetworkLanes::kLanes; ++l) {
+            references[l]->step(all_inputs[l].data(), expected.data());
+            lanes.get_outputs(l, got.data());
+            INFO("lane " << l << ", step " << step);
+            REQUIRE(got == expected);
+        }
+    }
+    CHECK(next > 20);  // lanes were reloaded many times
+    CHECK_THROWS_WITH(lanes.load(0, nn_test::random_genome(rng, 11, 0.3)),
+                      Catch::Contains("11 hidden neurons does not fit lanes made for 10"));
+}
+
 TEST_CASE("a batch of networks is refused when empty, too large or of mixed shapes", "[nn][network][lanes]") {
     const DnnConfig config;
     Rng rng(33);
