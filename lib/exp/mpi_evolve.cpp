@@ -242,12 +242,16 @@ std::string evaluate_chunk(const std::string& bytes, const sim::Task& task, cons
     // behaviours recorded only when rank 0 keeps them or r_max needs them (recording costs time)
     const std::size_t width = want || shaping ? task.behaviour_size() : 0;
     const auto genomes = decode_genomes(in.get_string());
-    std::vector<Evaluation> results(genomes.size());
-    behaviours.resize(genomes.size() * width);  // kept from chunk to chunk, every slot written
-    parallel_for(genomes.size(), threads, [&](std::size_t k) {
-        results[k] = evaluate_one(task, genomes[k], config.dnn, shaping,
-                                  std::span<float>(behaviours.data() + k * width, width));
-    });
+    // as a process's own generation: queues of similar policies in lanes (evaluate_all), each result
+    // bit for bit the policy's alone; the buffer is kept from chunk to chunk, every slot written
+    std::vector<Evaluation> results =
+        evaluate_all(task, genomes, config.dnn, threads, width > 0 ? &behaviours : nullptr);
+    if (shaping) {
+        parallel_for(genomes.size(), threads, [&](std::size_t k) {
+            results[k].r_max =
+                shaped_r_max(*shaping, std::span<const float>(behaviours.data() + k * width, width));
+        });
+    }
     ByteWriter out;
     // room for the behaviours too (tens of MB in a KB-observing generation): one allocation, no regrowth
     out.reserve(64 + genomes.size() * (128 + task.cell_count() * sizeof(evo::GridCell)) +
