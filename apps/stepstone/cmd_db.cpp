@@ -6,6 +6,7 @@
 
 #include "commands.hpp"
 #include "core/error.hpp"
+#include "core/math_fingerprint.hpp"
 #include "core/text.hpp"
 #include "core/writer_lock.hpp"
 #include "db/database.hpp"
@@ -31,6 +32,7 @@ void run_db_info(const DbInfoOptions& options) {
                                "); restore it from a copy, or rerun what wrote it"));
     }
     const auto tables = db::table_counts(connection);
+    const std::string math = db::meta_value(connection, kMathFingerprintKey);  // run files since it was added
     if (options.json) {
         nlohmann::json out;
         out["file"] = options.file;
@@ -38,6 +40,7 @@ void run_db_info(const DbInfoOptions& options) {
         out["schema_version"] = info.schema_version;
         out["program_schema_version"] = db::latest_schema_version();
         out["integrity"] = integrity;
+        if (!math.empty()) out["math_fingerprint"] = math;
         out["tables"] = nlohmann::json::object();
         for (const auto& table : tables) out["tables"][table.name] = table.rows;
         std::cout << out.dump(2) << '\n';
@@ -49,8 +52,11 @@ void run_db_info(const DbInfoOptions& options) {
               << "application_id  " << app_id << " (stepstone)\n"
               << "schema_version  " << info.schema_version
               << " (this program: " << db::latest_schema_version() << ")\n"
-              << "integrity       ok\n"
-              << "tables          " << tables.size() << '\n';
+              << "integrity       ok\n";
+    if (!math.empty()) {
+        std::cout << "math            " << math << " (this machine: " << math_fingerprint() << ")\n";
+    }
+    std::cout << "tables          " << tables.size() << '\n';
     for (const auto& table : tables) {
         std::cout << "  " << table.name << std::string(table.name.size() < 24 ? 24 - table.name.size() : 1, ' ')
                   << table.rows << '\n';

@@ -12,6 +12,7 @@
 
 #include "commands.hpp"
 #include "core/error.hpp"
+#include "core/math_fingerprint.hpp"
 #include "core/text.hpp"
 #include "core/version.hpp"
 
@@ -208,8 +209,12 @@ std::string unknown_option(const CLI::App& app, int argc, char** argv) {
 
 int main(int argc, char** argv) {
     CLI::App app{"stepstone: transfer learning for evolutionary robotics by reward shaping"};
-    app.set_version_flag("--version", "stepstone " + std::string(stepstone::program_version()) + " (commit " +
-                                          std::string(stepstone::build_commit()) + ")");
+    // the math library's fingerprint (core/math_fingerprint.hpp), computed only when asked
+    app.set_version_flag("--version", [] {
+        return "stepstone " + std::string(stepstone::program_version()) + " (commit " +
+               std::string(stepstone::build_commit()) + ", math fingerprint " +
+               stepstone::math_fingerprint() + ")";
+    });
     app.require_subcommand(1);
     app.footer(stepstone::app::example({"stepstone db info run.db", "stepstone demo"}));
     stepstone::app::add_registered_commands(app);

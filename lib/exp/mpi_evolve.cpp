@@ -7,6 +7,7 @@
 
 #include "core/bytes.hpp"
 #include "core/error.hpp"
+#include "core/math_fingerprint.hpp"
 #include "core/text.hpp"
 #include "core/writer_lock.hpp"
 
@@ -328,7 +329,8 @@ void MpiLeader::abandon() {
 
 std::unique_ptr<RemoteEvaluator> MpiLeader::start(const runs::EvolveConfig& config,
                                                   const kb::KnowledgeBase* shaping, const std::string& run) {
-    nlohmann::json setup = {{"config", config.to_json()}, {"run", run}};
+    nlohmann::json setup = {
+        {"config", config.to_json()}, {"run", run}, {"math_fingerprint", math_fingerprint()}};
     for (int rank = 1; rank < session_.size(); ++rank) session_.send(rank, kTagSetup, setup.dump());
     return std::make_unique<MpiEvaluator>(*this, config, shaping);
 }
@@ -341,6 +343,14 @@ void serve_evolve(mpi::Session& session, unsigned threads) {
     if (message.tag == kTagStop) return;  // rank 0 stopped before the run began (bad input)
     try {
         const auto setup = nlohmann::json::parse(message.bytes);
+        // a rank whose math library rounds otherwise would evaluate some policies differently from rank 0
+        const auto leader_math = setup.at("math_fingerprint").get<std::string>();
+        if (leader_math != math_fingerprint()) {
+            throw Error(concat("this rank's math library rounds differently from rank 0's (math fingerprint ",
+                               math_fingerprint(), ", rank 0's ", leader_math,
+                               "), so the run would depend on which rank evaluates what; run every rank on "
+                               "machines of one kind"));
+        }
         runs::EvolveConfig config = runs::EvolveConfig::from_json(setup.at("config"), "rank 0's config");
         std::optional<kb::KnowledgeBase> shaping;
         if (config.transfer) shaping = load_shaping_kb(config);  // checked against rank 0's digest

@@ -6,12 +6,14 @@
 #include <iostream>
 
 #include "core/error.hpp"
+#include "core/math_fingerprint.hpp"
 #include "core/rng.hpp"
 #include "core/text.hpp"
 #include "core/version.hpp"
 #include "core/writer_lock.hpp"
 #include "db/database.hpp"
 #include "db/digest.hpp"
+#include "db/inspect.hpp"
 #include "db/kb_store.hpp"
 #include "exp/evolution.hpp"
 #include "exp/mpi_evolve.hpp"
@@ -181,11 +183,26 @@ db::Connection open_run_file(const EvolveOptions& options, RunStart& start) {
         run.config = config.to_json();
         run.generations = config.ea.generations;
         insert_run(output.connection(), run, full_version());
+        db::set_meta_value(output.connection(), kMathFingerprintKey, math_fingerprint());
         if (config.kb)
             db::insert_kb(output.connection(), runs::kRunKbName, kb::KnowledgeBase(kb_params(*config.kb)));
         output.commit();
     }
     return db::open_database(options.db_path, db::OpenMode::read_write);
+}
+
+// On resume on a machine whose math library rounds differently from the one
+// that started the run: a warning, since the run goes on validly but will not
+// equal an uninterrupted run (files of older builds hold no fingerprint)
+void warn_math_change(const EvolveOptions& options, db::Connection& connection) {
+    if (!options.resume) return;
+    const std::string stored = db::meta_value(connection, kMathFingerprintKey);
+    if (stored.empty() || stored == math_fingerprint()) return;
+    std::cerr << "stepstone: warning: " << options.db_path.string()
+              << ": this machine's math library rounds differently from the one that started the run "
+                 "(math fingerprint "
+              << math_fingerprint() << ", the run's " << stored
+              << "): the generations from here on will not equal those of an uninterrupted run\n";
 }
 
 // On resume: the stored seed unless the user names another one, the config
@@ -271,6 +288,7 @@ EvolveSummary run_evolve(const EvolveOptions& options) {
     db::Connection connection = open_run_file(options, start);
     runs::RunRecord run = runs::load_run(connection);
     reconcile_resumed(options, run, start.config);
+    warn_math_change(options, connection);
     db::start_writing(connection);
 
     Evolution evolution(start.config, static_cast<std::uint64_t>(run.seed), options.threads);

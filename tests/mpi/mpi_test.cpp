@@ -15,6 +15,7 @@
 #include "db/digest.hpp"
 #include "exp/campaign/campaign_kb.hpp"
 #include "support/campaigns.hpp"
+#include "support/db_files.hpp"
 #include "support/run_cli.hpp"
 #include "support/temp_dir.hpp"
 
@@ -148,6 +149,40 @@ TEST_CASE("evolve --mpi with 2 and 3 ranks gives the single-process digest, KB l
     // the digest covers r_max: most of these policies match the KB
     auto run = db::open_database(dir / "mo-1.db", db::OpenMode::read_only);
     CHECK(run.query_int("SELECT count(*) FROM individual WHERE shaping > 0") > 80);
+}
+
+TEST_CASE(
+    "evolve --mpi with a rank whose math library rounds otherwise: one line naming the rank, no generation",
+    "[mpi][evolve][errors][determinism]") {
+    __builtin_cpu_init();
+    if (!(__builtin_cpu_supports("fma") && __builtin_cpu_supports("avx2"))) {
+        WARN("this CPU lacks FMA or AVX2: glibc has no other build to give rank 1");
+        return;
+    }
+    test::TempDir dir;
+    test::write_file(dir / "source.json", kSource);
+    const std::vector<std::string> args{"evolve",
+                                        "--config",
+                                        (dir / "source.json").string(),
+                                        "--db",
+                                        (dir / "run.db").string(),
+                                        "--seed",
+                                        "3",
+                                        "--quiet",
+                                        "--mpi"};
+    // rank 0 as this machine runs it, rank 1 as a machine without FMA would (glibc's plain builds)
+    std::vector<std::string> command{"mpirun", "--allow-run-as-root", "--oversubscribe", "-np",
+                                     "1",      STEPSTONE_BINARY};
+    command.insert(command.end(), args.begin(), args.end());
+    for (const std::string part :
+         {":", "-np", "1", "/usr/bin/env", "GLIBC_TUNABLES=glibc.cpu.hwcaps=-AVX2,-FMA", STEPSTONE_BINARY})
+        command.push_back(part);
+    command.insert(command.end(), args.begin(), args.end());
+    const auto result = test::run_program(command);
+    INFO(result.err);
+    CHECK(result.exit_code != 0);
+    CHECK_THAT(result.err, Contains("rank 1") && Contains("math library rounds differently from rank 0's"));
+    CHECK(test::generations_done(dir / "run.db") < 0);  // no generation committed (or no file)
 }
 
 TEST_CASE("evolve --mpi with chunks of tens of genomes each way: no rank waits on another's send",

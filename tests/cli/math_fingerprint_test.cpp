@@ -1,0 +1,109 @@
+// The math fingerprint (core/math_fingerprint.hpp) as a user meets it: in
+// --version, in a run file, and in the warning when a run is resumed on a
+// machine whose math library rounds differently. The other machine is real:
+// with GLIBC_TUNABLES=glibc.cpu.hwcaps=-AVX2,-FMA, glibc uses its build of sin, cos and
+// pow without FMA instructions, as it does on a CPU that lacks them.
+#include <catch2/catch.hpp>
+#include <string>
+#include <vector>
+
+#include "db/connection.hpp"
+#include "db/database.hpp"
+#include "db/inspect.hpp"
+#include "support/db_files.hpp"
+#include "support/run_cli.hpp"
+#include "support/temp_dir.hpp"
+
+using namespace stepstone;
+using Catch::Matchers::Contains;
+
+namespace {
+
+// glibc picks its FMA builds only on a CPU with FMA and AVX2; elsewhere the
+// tunable changes nothing
+bool cpu_has_fma() {
+    __builtin_cpu_init();
+    return __builtin_cpu_supports("fma") && __builtin_cpu_supports("avx2");
+}
+
+// the stepstone binary as a machine without FMA runs it
+test::CliResult run_elsewhere(const std::vector<std::string>& args) {
+    std::vector<std::string> command{"/usr/bin/env", "GLIBC_TUNABLES=glibc.cpu.hwcaps=-AVX2,-FMA",
+                                     STEPSTONE_BINARY};
+    command.insert(command.end(), args.begin(), args.end());
+    return test::run_program(command);
+}
+
+// the 16 hex digits after "math fingerprint " in --version's line
+std::string fingerprint_of(const test::CliResult& version) {
+    const std::string marker = "math fingerprint ";
+    const auto at = version.out.find(marker);
+    if (at == std::string::npos) return "";
+    return version.out.substr(at + marker.size(), 16);
+}
+
+const char* kTiny = R"({"task": {"kind": "source", "steps_per_start": 100, "starts": 1},
+  "ea": {"population_size": 8, "generations": 2}})";
+
+}  // namespace
+
+TEST_CASE("--version names the math fingerprint, which tells glibc's FMA build from its plain one",
+          "[cli][determinism]") {
+    const auto here = test::run_cli({"--version"});
+    REQUIRE(here.exit_code == 0);
+    const std::string fingerprint = fingerprint_of(here);
+    CHECK(fingerprint.size() == 16);
+    CHECK(fingerprint.find_first_not_of("0123456789abcdef") == std::string::npos);
+    CHECK(fingerprint_of(test::run_cli({"--version"})) == fingerprint);
+    if (!cpu_has_fma()) {
+        WARN("this CPU lacks FMA or AVX2: glibc has no other build to switch to, nothing to compare");
+        return;
+    }
+    const auto elsewhere = run_elsewhere({"--version"});
+    REQUIRE(elsewhere.exit_code == 0);
+    CHECK(fingerprint_of(elsewhere).size() == 16);
+    CHECK(fingerprint_of(elsewhere) != fingerprint);
+}
+
+TEST_CASE(
+    "a run file keeps its machine's math fingerprint; resumed on another kind of machine, it warns and goes "
+    "on",
+    "[cli][determinism][resume]") {
+    test::TempDir dir;
+    test::write_file(dir / "c.json", kTiny);
+    const auto run = dir / "run.db";
+    REQUIRE(test::run_cli({"evolve", "--config", (dir / "c.json").string(), "--db", run.string(), "--seed",
+                           "3", "--quiet"})
+                .exit_code == 0);
+    const std::string here = fingerprint_of(test::run_cli({"--version"}));
+    {
+        auto connection = db::open_database(run, db::OpenMode::read_only);
+        CHECK(db::meta_value(connection, "math_fingerprint") == here);
+    }
+
+    const auto info = test::run_cli({"db", "info", run.string()});
+    CHECK_THAT(info.out, Contains("math            " + here + " (this machine: " + here + ")"));
+
+    // resumed on this machine: no word about it
+    const auto same =
+        test::run_cli({"evolve", "--db", run.string(), "--resume", "--generations", "3", "--quiet"});
+    REQUIRE(same.exit_code == 0);
+    CHECK(same.err.empty());
+    if (!cpu_has_fma()) {
+        WARN("this CPU lacks FMA or AVX2: no other kind of machine to resume on");
+        return;
+    }
+
+    // resumed elsewhere: one warning line naming both fingerprints, and the run goes on
+    const auto elsewhere =
+        run_elsewhere({"evolve", "--db", run.string(), "--resume", "--generations", "4", "--quiet"});
+    INFO(elsewhere.err);
+    REQUIRE(elsewhere.exit_code == 0);
+    REQUIRE(elsewhere.err_lines().size() == 1);
+    CHECK_THAT(elsewhere.err, Contains("warning") && Contains("rounds differently") && Contains(here) &&
+                                  Contains("will not equal those of an uninterrupted run"));
+    CHECK(test::generations_done(run) == 4);
+    // the file still names the machine that started it
+    auto connection = db::open_database(run, db::OpenMode::read_only);
+    CHECK(db::meta_value(connection, "math_fingerprint") == here);
+}
