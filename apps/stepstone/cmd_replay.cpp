@@ -8,8 +8,11 @@
 
 #include "commands.hpp"
 #include "core/error.hpp"
+#include "core/math_fingerprint.hpp"
 #include "core/output_file.hpp"
 #include "core/text.hpp"
+#include "db/database.hpp"
+#include "db/inspect.hpp"
 #include "runs/replay.hpp"
 #include "sim/sensors.hpp"
 #include "sim/step_csv.hpp"
@@ -46,6 +49,16 @@ void write_behaviour_json(const ReplayFlags& flags) {
                  [&](std::ostream& out) { out << document.dump() << "\n"; });
 }
 
+// why a replay may differ: the run came from a machine whose math library rounds
+// otherwise (docs/architecture.md, Determinism); "" when it did not, or the file predates the key
+std::string math_note(const std::string& db_path) {
+    auto connection = db::open_database(db_path, db::OpenMode::read_only, /*allow_older=*/true);
+    const std::string stored = db::meta_value(connection, kMathFingerprintKey);
+    if (stored.empty() || stored == math_fingerprint()) return "";
+    return concat(" (the run was made on a machine whose math library rounds differently: math fingerprint ",
+                  stored, ", this machine's ", math_fingerprint(), ")");
+}
+
 void run_replay(const ReplayFlags& flags) {
     if (!flags.csv.empty()) check_output_target(flags.csv, flags.force);
     if (!flags.behaviour_json.empty()) check_output_target(flags.behaviour_json, flags.force);
@@ -65,7 +78,8 @@ void run_replay(const ReplayFlags& flags) {
               << "stored_reward " << replayed.stored_reward << "\n";
     if (replayed.result.reward != replayed.stored_reward) {
         throw DataError(concat(flags.db, ": individual ", replayed.individual_id, " replays to reward ",
-                               replayed.result.reward, ", the run stored ", replayed.stored_reward));
+                               replayed.result.reward, ", the run stored ", replayed.stored_reward,
+                               math_note(flags.db)));
     }
     write_behaviour_json(flags);
 }

@@ -107,3 +107,33 @@ TEST_CASE(
     auto connection = db::open_database(run, db::OpenMode::read_only);
     CHECK(db::meta_value(connection, "math_fingerprint") == here);
 }
+
+TEST_CASE("a replay that misses its stored reward names a run made by another math library",
+          "[cli][determinism]") {
+    test::TempDir dir;
+    test::write_file(dir / "c.json", kTiny);
+    const auto run = dir / "run.db";
+    REQUIRE(test::run_cli({"evolve", "--config", (dir / "c.json").string(), "--db", run.string(), "--seed",
+                           "3", "--quiet"})
+                .exit_code == 0);
+    {
+        // a stored reward no replay gives
+        auto connection = db::open_database(run, db::OpenMode::read_write);
+        connection.exec("UPDATE individual SET reward = 0.5");
+    }
+    const auto same = test::run_cli({"replay", run.string()});
+    CHECK(same.exit_code == 1);
+    CHECK_THAT(same.err, Contains("replays to reward 0, the run stored 0.5"));
+    CHECK_THAT(same.err, !Contains("math library"));
+
+    // the same miss in a run whose file names another machine's fingerprint
+    {
+        auto connection = db::open_database(run, db::OpenMode::read_write);
+        db::set_meta_value(connection, "math_fingerprint", "00000000000000ff");
+    }
+    const auto other = test::run_cli({"replay", run.string()});
+    CHECK(other.exit_code == 1);
+    CHECK(other.err_lines().size() == 1);
+    CHECK_THAT(other.err, Contains("replays to reward 0, the run stored 0.5") &&
+                              Contains("math library rounds differently: math fingerprint 00000000000000ff"));
+}
