@@ -25,6 +25,7 @@ struct SimulateOptions {
     int steps = 4000;
     int starts = 3;
     std::string arena;
+    std::string math = "libm";
     bool force = false;
 };
 
@@ -40,8 +41,12 @@ sim::TaskConfig task_config(const SimulateOptions& options) {
     if (options.starts < 1 || options.starts > 3) {
         throw ConfigError(concat("--starts must be in [1, 3], got ", options.starts));
     }
+    if (options.math != "libm" && options.math != "portable") {
+        throw ConfigError(concat("--math must be libm or portable, got '", options.math, "'"));
+    }
     config.steps_per_start = options.steps;
     config.starts = options.starts;
+    config.math = options.math == "portable" ? Math::portable : Math::libm;
     if (!options.arena.empty()) {
         config.arena = std::make_shared<const sim::ArenaSpec>(sim::ArenaSpec::load(options.arena));
         if (options.controller == "scripted" && *config.arena != sim::paper_arena()) {
@@ -90,6 +95,11 @@ void add_simulate_command(CLI::App& app) {
     cmd->add_option("--starts", options->starts, "Number of starts, 1 to 3")->capture_default_str();
     cmd->add_option("--arena", options->arena,
                     "Arena file (JSON, docs/simulator.md; default: the paper's arena)");
+    cmd->add_option(
+           "--math", options->math,
+           "Sine and cosine: libm (the C library's, as runs use by default) or portable (the same bits "
+           "on every machine; docs/architecture.md, Determinism)")
+        ->capture_default_str();
     cmd->add_flag("--force", options->force, "Overwrite an existing CSV");
     cmd->footer(example(
         {"stepstone simulate --task source --controller scripted --csv source.csv",

@@ -343,15 +343,16 @@ void serve_evolve(mpi::Session& session, unsigned threads) {
     if (message.tag == kTagStop) return;  // rank 0 stopped before the run began (bad input)
     try {
         const auto setup = nlohmann::json::parse(message.bytes);
+        runs::EvolveConfig config = runs::EvolveConfig::from_json(setup.at("config"), "rank 0's config");
         // a rank whose math library rounds otherwise would evaluate some policies differently from rank 0
+        // (unless the run uses portable math)
         const auto leader_math = setup.at("math_fingerprint").get<std::string>();
-        if (leader_math != math_fingerprint()) {
+        if (config.math() == Math::libm && leader_math != math_fingerprint()) {
             throw Error(concat("this rank's math library rounds differently from rank 0's (math fingerprint ",
                                math_fingerprint(), ", rank 0's ", leader_math,
                                "), so the run would depend on which rank evaluates what; run every rank on "
-                               "machines of one kind"));
+                               "machines of one kind, or give the run \"math\": \"portable\""));
         }
-        runs::EvolveConfig config = runs::EvolveConfig::from_json(setup.at("config"), "rank 0's config");
         std::optional<kb::KnowledgeBase> shaping;
         if (config.transfer) shaping = load_shaping_kb(config);  // checked against rank 0's digest
         const auto task = sim::make_task(config.task);

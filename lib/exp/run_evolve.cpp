@@ -193,9 +193,11 @@ db::Connection open_run_file(const EvolveOptions& options, RunStart& start) {
 
 // On resume on a machine whose math library rounds differently from the one
 // that started the run: a warning, since the run goes on validly but will not
-// equal an uninterrupted run (files of older builds hold no fingerprint)
-void warn_math_change(const EvolveOptions& options, db::Connection& connection) {
-    if (!options.resume) return;
+// equal an uninterrupted run (files of older builds hold no fingerprint). A
+// run on portable math does not depend on the library.
+void warn_math_change(const EvolveOptions& options, const runs::EvolveConfig& config,
+                      db::Connection& connection) {
+    if (!options.resume || config.math() == Math::portable) return;
     const std::string stored = db::meta_value(connection, kMathFingerprintKey);
     if (stored.empty() || stored == math_fingerprint()) return;
     std::cerr << "stepstone: warning: " << options.db_path.string()
@@ -288,7 +290,7 @@ EvolveSummary run_evolve(const EvolveOptions& options) {
     db::Connection connection = open_run_file(options, start);
     runs::RunRecord run = runs::load_run(connection);
     reconcile_resumed(options, run, start.config);
-    warn_math_change(options, connection);
+    warn_math_change(options, start.config, connection);
     db::start_writing(connection);
 
     Evolution evolution(start.config, static_cast<std::uint64_t>(run.seed), options.threads);

@@ -1,6 +1,7 @@
 #pragma once
 
 #include "core/config.hpp"
+#include "core/portable_math.hpp"
 
 namespace stepstone::nn {
 
@@ -36,6 +37,8 @@ struct DnnConfig {
     double add_neuron_rate = 0.05;
     /// Probability of deleting one random hidden neuron with its connections.
     double delete_neuron_rate = 0.05;
+    /// The power of the polynomial mutation (set from a run config's "math").
+    Math math = Math::libm;
 
     /// Throws ConfigError (one line naming the field) unless every count is
     /// >= 1, every rate in [0, 1], eta >= 0, min < max and all values finite.

@@ -26,10 +26,13 @@ std::size_t attempts(const Genome& genome) { return genome.neuron_count() * geno
 
 }  // namespace
 
-double polynomial_mutation(double gene, double eta, Rng& rng) {
+double polynomial_mutation(double gene, double eta, Rng& rng, Math math) {
     const double r = rng.uniform();
     const double exponent = 1.0 / (eta + 1.0);
-    const double delta = r < 0.5 ? std::pow(2.0 * r, exponent) - 1.0 : 1.0 - std::pow(2.0 * (1.0 - r), exponent);
+    const auto power = [&](double base) {
+        return math == Math::portable ? portable::pow(base, exponent) : std::pow(base, exponent);
+    };
+    const double delta = r < 0.5 ? power(2.0 * r) - 1.0 : 1.0 - power(2.0 * (1.0 - r));
     return std::clamp(gene + delta, 0.0, 1.0);
 }
 
@@ -38,7 +41,7 @@ std::size_t mutate_weights(Genome& genome, const DnnConfig& config, Rng& rng) {
     for (std::size_t k = 0; k < genome.connection_count(); ++k) {
         if (rng.bernoulli(config.parameter_mutation_rate)) {
             auto& weight = genome.connection(k).weight;
-            weight = polynomial_mutation(weight, config.polynomial_eta, rng);
+            weight = polynomial_mutation(weight, config.polynomial_eta, rng, config.math);
             ++mutated;
         }
     }
@@ -73,7 +76,7 @@ std::size_t mutate_biases(Genome& genome, const DnnConfig& config, Rng& rng) {
     std::size_t mutated = 0;
     for (auto& bias : genome.biases()) {
         if (rng.bernoulli(config.parameter_mutation_rate)) {
-            bias = polynomial_mutation(bias, config.polynomial_eta, rng);
+            bias = polynomial_mutation(bias, config.polynomial_eta, rng, config.math);
             ++mutated;
         }
     }

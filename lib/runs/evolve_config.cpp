@@ -112,6 +112,9 @@ EvolveConfig EvolveConfig::from_json(const nlohmann::json& json, const std::stri
         std::string retain = "front";
         root.read_choice("retain", retain, {"front", "all"});
         config.retain = retain == "all" ? Retain::all : Retain::front;
+        std::string math(to_string(Math::libm));
+        root.read_choice("math", math, {"libm", "portable"});
+        config.set_math(math == "portable" ? Math::portable : Math::libm);
         root.finish();
         return config;
     } catch (const ConfigError& e) {
@@ -158,6 +161,8 @@ nlohmann::json EvolveConfig::to_json() const {
                    {"delete_neuron_rate", dnn.delete_neuron_rate}};
     if (seed) json["seed"] = *seed;
     json["retain"] = retain == Retain::all ? "all" : "front";
+    // written only when not the default, so that the configs stored before the key existed compare equal
+    if (math() == Math::portable) json["math"] = to_string(Math::portable);
     if (kb) {
         json["kb"] = {{"segment_width", kb->segment_width},
                       {"delta", kb->delta},

@@ -67,6 +67,13 @@ struct EvolveConfig {
 
     /// The run's treatment (none without a transfer block).
     Treatment treatment() const { return transfer ? transfer->treatment : Treatment::none; }
+    /// The sine, cosine and power of the run (the JSON's "math", default "libm"):
+    /// the task's and the mutation's, kept equal.
+    Math math() const { return task.math; }
+    void set_math(Math math) {
+        task.math = math;
+        dnn.math = math;
+    }
 
     /// Strict parse: unknown keys, wrong types and out-of-range values throw
     /// ConfigError naming `source` and the key path. Keys: task {kind,

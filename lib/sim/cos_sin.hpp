@@ -4,9 +4,12 @@
 #include <cmath>
 #include <cstdint>
 
+#include "core/portable_math.hpp"
+
 namespace stepstone::sim {
 
-/// cos and sin of an angle, as std::cos and std::sin give them.
+/// cos and sin of an angle, as std::cos and std::sin give them (or
+/// portable::sincos, in a run whose config says "math": "portable").
 struct CosSin {
     double c = 1.0;
     double s = 0.0;
@@ -18,13 +21,22 @@ struct CosSinMemo {
     std::uint64_t bits = 0;
     CosSin value;
 
-    CosSin get(double angle) {
+    CosSin get(double angle, bool portable) {
         const auto angle_bits = std::bit_cast<std::uint64_t>(angle);
         if (bits != angle_bits) {
-            value = {std::cos(angle), std::sin(angle)};
+            value = compute(angle, portable);
             bits = angle_bits;
         }
         return value;
+    }
+
+    static CosSin compute(double angle, bool portable) {
+        if (portable) {
+            CosSin both;
+            portable::sincos(angle, both.s, both.c);
+            return both;
+        }
+        return {std::cos(angle), std::sin(angle)};
     }
 };
 
@@ -34,6 +46,8 @@ struct CosSinMemo {
 struct CosSinMemos {
     CosSinMemo heading;
     CosSinMemo turn;
+    /// the evaluation's functions: portable::sincos, else std::cos and std::sin
+    bool portable = false;
 };
 
 namespace detail {
@@ -66,6 +80,9 @@ private:
 /// pose it reaches ask for the same heading. The memo holds the exact values
 /// (the angle is compared bit for bit), so results never depend on it, and
 /// each thread has its own.
-inline CosSin cos_sin(double angle) { return current_memos().heading.get(angle); }
+inline CosSin cos_sin(double angle) {
+    CosSinMemos& memos = current_memos();
+    return memos.heading.get(angle, memos.portable);
+}
 
 }  // namespace stepstone::sim

@@ -41,6 +41,7 @@ Episode::Episode(const Task& task, const Recording& recording) : task_(&task), r
     }
     state_.door_open = task.door_starts_open();
     state_.lit = task.initial_lit();
+    memos_.portable = task.config().math == Math::portable;
 }
 
 void Episode::begin_start(int index) {

@@ -29,11 +29,13 @@ Pose move_pose(const Pose& pose, double left, double right) {
     // an arc about the instantaneous centre, computed in the robot frame
     // (forward = local +y) and rotated by heading - pi/2 into the world
     const double radius = left / alpha + kWheelBase / 2.0;
-    const CosSin turn = current_memos().turn.get(alpha);
+    CosSinMemos& memos = current_memos();
+    const CosSin turn = memos.turn.get(alpha, memos.portable);
     const double local_x = (turn.c - 1.0) * radius;
     const double local_y = turn.s * radius;
-    const double c = std::cos(pose.heading - kPi / 2.0);
-    const double s = std::sin(pose.heading - kPi / 2.0);
+    const CosSin rotation = CosSinMemo::compute(pose.heading - kPi / 2.0, memos.portable);
+    const double c = rotation.c;
+    const double s = rotation.s;
     next.x += local_x * c - local_y * s;
     next.y += local_x * s + local_y * c;
     next.heading = normalize_angle(pose.heading + alpha);

@@ -27,13 +27,11 @@ struct Window {
     double lo_x, lo_y, hi_x, hi_y;
 };
 
-Window window_of(double angle) {
-    const double lo = angle - kLightWindow / 2;
-    const double hi = angle + kLightWindow / 2;
-    return {std::cos(lo), std::sin(lo), std::cos(hi), std::sin(hi)};
+Window window_of(double angle, bool portable) {
+    const CosSin lo = CosSinMemo::compute(angle - kLightWindow / 2, portable);
+    const CosSin hi = CosSinMemo::compute(angle + kLightWindow / 2, portable);
+    return {lo.c, lo.s, hi.c, hi.s};
 }
-
-const Window kWindows[2] = {window_of(kLightSensorAngles[0]), window_of(kLightSensorAngles[1])};
 
 // The -pi/4 window is the +pi/4 one mirrored: its edges are at exactly
 // minus the other's (angle -a +- w/2 rounds to -(a -+ w/2)), and cos and sin
@@ -45,9 +43,25 @@ const Window kWindows[2] = {window_of(kLightSensorAngles[0]), window_of(kLightSe
 // doubles is positive exactly when the first is larger.
 bool same_bits(double a, double b) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b); }
 
-const bool kMirrored =
-    same_bits(kWindows[1].lo_x, kWindows[0].hi_x) && same_bits(kWindows[1].lo_y, -kWindows[0].hi_y) &&
-    same_bits(kWindows[1].hi_x, kWindows[0].lo_x) && same_bits(kWindows[1].hi_y, -kWindows[0].lo_y);
+// the two windows' edges with the functions of a run (std::cos and std::sin, or
+// portable::sincos), and whether they mirror each other bit for bit
+struct Windows {
+    Window w[2];
+    bool mirrored;
+};
+
+Windows windows_of(bool portable) {
+    const Window plus = window_of(kLightSensorAngles[0], portable);
+    const Window minus = window_of(kLightSensorAngles[1], portable);
+    const bool mirrored = same_bits(minus.lo_x, plus.hi_x) && same_bits(minus.lo_y, -plus.hi_y) &&
+                          same_bits(minus.hi_x, plus.lo_x) && same_bits(minus.hi_y, -plus.lo_y);
+    return {{plus, minus}, mirrored};
+}
+
+const Windows kLibmWindows = windows_of(false);
+const Windows kPortableWindows = windows_of(true);
+
+const Windows& current_windows() { return current_memos().portable ? kPortableWindows : kLibmWindows; }
 
 // bit i set when a[i] > 0 and b[i] > 0: inside()'s two tests, slot by slot
 std::uint32_t positive_pairs(const std::array<double, kMaxLights>& a, const std::array<double, kMaxLights>& b) {
@@ -138,6 +152,7 @@ template <class Blocked>
 void sense_with(const Arena& arena, std::span<const Light> lights, const Pose& pose, const WorldState& state,
                 SensorReadings& out, Blocked&& blocked) {
     STEPSTONE_ASSERT(lights.size() <= static_cast<std::size_t>(kMaxLights));
+    const Windows& windows = current_windows();
     const CosSin heading = cos_sin(pose.heading);
     const double c = heading.c;
     const double s = heading.s;
@@ -154,8 +169,8 @@ void sense_with(const Arena& arena, std::span<const Light> lights, const Pose& p
         const double dy = light.y - pose.y;
         const double u = dx * c + dy * s;
         const double v = dy * c - dx * s;
-        const bool plus = !out.light[first] && inside(kWindows[0], u, v);
-        const bool minus = !out.light[first + 1] && inside(kWindows[1], u, v);
+        const bool plus = !out.light[first] && inside(windows.w[0], u, v);
+        const bool minus = !out.light[first + 1] && inside(windows.w[1], u, v);
         if (!plus && !minus) continue;
         if (blocked(index, light)) continue;
         out.light[first] = out.light[first] || plus;
@@ -303,6 +318,7 @@ SightTable::Cell SightTable::cell(double x, double y, bool door_open) const {
 // candidate walls
 void sense(const Arena& arena, const SightTable& sight, const Pose& pose, const WorldState& state,
            SensorReadings& out) {
+    const Windows& windows = current_windows();
     const CosSin heading = cos_sin(pose.heading);
     const double c = heading.c;
     const double s = heading.s;
@@ -316,24 +332,24 @@ void sense(const Arena& arena, const SightTable& sight, const Pose& pose, const 
     std::uint32_t plus = 0;
     std::uint32_t minus = 0;
 #ifdef STEPSTONE_SIM_HAVE_AVX2_KERNEL
-    if (kMirrored && avx2_kernels()) {
+    if (windows.mirrored && avx2_kernels()) {
         // padded to kMaxLights, a multiple of 4: the last vector stays inside
         static_assert(kMaxLights % 4 == 0);
-        const double edges[4] = {kWindows[0].lo_x, kWindows[0].lo_y, kWindows[0].hi_x, kWindows[0].hi_y};
+        const double edges[4] = {windows.w[0].lo_x, windows.w[0].lo_y, windows.w[0].hi_x, windows.w[0].hi_y};
         window_masks_avx2(xs.data(), ys.data(), sight.lights().size(), pose.x, pose.y, c, s, edges, plus, minus);
     } else
 #endif
 #if defined(__SSE2__)
-    if (kMirrored) {
+        if (windows.mirrored) {
         // the window tests of two slots per vector, up to the last light
         const __m128d vc = _mm_set1_pd(c);
         const __m128d vs = _mm_set1_pd(s);
         const __m128d px = _mm_set1_pd(pose.x);
         const __m128d py = _mm_set1_pd(pose.y);
-        const __m128d lo_x = _mm_set1_pd(kWindows[0].lo_x);
-        const __m128d lo_y = _mm_set1_pd(kWindows[0].lo_y);
-        const __m128d hi_x = _mm_set1_pd(kWindows[0].hi_x);
-        const __m128d hi_y = _mm_set1_pd(kWindows[0].hi_y);
+        const __m128d lo_x = _mm_set1_pd(windows.w[0].lo_x);
+        const __m128d lo_y = _mm_set1_pd(windows.w[0].lo_y);
+        const __m128d hi_x = _mm_set1_pd(windows.w[0].hi_x);
+        const __m128d hi_y = _mm_set1_pd(windows.w[0].hi_y);
         const __m128d sign = _mm_set1_pd(-0.0);
         const std::size_t count = sight.lights().size();
         for (std::size_t i = 0; i < count; i += 2) {
@@ -365,10 +381,10 @@ void sense(const Arena& arena, const SightTable& sight, const Pose& pose, const 
             const double dy = ys[i] - pose.y;
             const double u = dx * c + dy * s;
             const double v = dy * c - dx * s;
-            plus_lo[i] = kWindows[0].lo_x * v - kWindows[0].lo_y * u;
-            plus_hi[i] = u * kWindows[0].hi_y - v * kWindows[0].hi_x;
-            minus_lo[i] = kWindows[1].lo_x * v - kWindows[1].lo_y * u;
-            minus_hi[i] = u * kWindows[1].hi_y - v * kWindows[1].hi_x;
+            plus_lo[i] = windows.w[0].lo_x * v - windows.w[0].lo_y * u;
+            plus_hi[i] = u * windows.w[0].hi_y - v * windows.w[0].hi_x;
+            minus_lo[i] = windows.w[1].lo_x * v - windows.w[1].lo_y * u;
+            minus_hi[i] = u * windows.w[1].hi_y - v * windows.w[1].hi_x;
         }
         plus = positive_pairs(plus_lo, plus_hi);
         minus = positive_pairs(minus_lo, minus_hi);

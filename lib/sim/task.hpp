@@ -7,6 +7,7 @@
 #include <string_view>
 #include <vector>
 
+#include "core/portable_math.hpp"
 #include "sim/arena.hpp"
 #include "sim/arena_spec.hpp"
 #include "sim/robot.hpp"
@@ -36,6 +37,8 @@ struct TaskConfig {
     int grid_period = 50;        ///< steps between two diversity-grid samples of the first start
     /// The arena (walls, door, balls, switch, basket, start poses); null: the paper's.
     std::shared_ptr<const ArenaSpec> arena{};
+    /// The sine and cosine of the odometry and sensors (set from a run config's "math").
+    Math math = Math::libm;
 
     /// The arena, the paper's when none is set.
     const ArenaSpec& arena_spec() const { return arena ? *arena : paper_arena(); }

@@ -29,7 +29,7 @@ TEST_CASE("an unknown flag is a usage error: exit 2, one stderr line, no output 
     CHECK(result.err_lines().size() == 1);
 }
 
-TEST_CASE("--help on every level shows an example and exits 0", "[cli][help]") {
+TEST_CASE("the --help of every level shows an example and exits 0", "[cli][help]") {
     for (const auto& args : std::vector<std::vector<std::string>>{
              {"--help"}, {"db", "--help"}, {"db", "info", "--help"}, {"db", "migrate", "--help"}, {"db", "digest", "--help"}, {"demo", "--help"},
              {"evolve", "--help"}, {"replay", "--help"}, {"simulate", "--help"}, {"bench", "--help"},

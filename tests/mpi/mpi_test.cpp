@@ -183,6 +183,19 @@ TEST_CASE(
     CHECK(result.exit_code != 0);
     CHECK_THAT(result.err, Contains("rank 1") && Contains("math library rounds differently from rank 0's"));
     CHECK(test::generations_done(dir / "run.db") < 0);  // no generation committed (or no file)
+
+    // with "math": "portable" the library does not matter: the mixed job runs, to the single-process digest
+    std::string portable = kSource;
+    portable.insert(portable.rfind('}'), R"(, "math": "portable")");
+    test::write_file(dir / "source.json", portable);
+    fs::remove(dir / "run.db");
+    const auto mixed = test::run_program(command);
+    INFO(mixed.err);
+    REQUIRE(mixed.exit_code == 0);
+    REQUIRE(test::run_cli({"evolve", "--config", (dir / "source.json").string(), "--db",
+                           (dir / "one.db").string(), "--seed", "3", "--quiet"})
+                .exit_code == 0);
+    CHECK(digest_of(dir / "run.db") == digest_of(dir / "one.db"));
 }
 
 TEST_CASE("evolve --mpi with chunks of tens of genomes each way: no rank waits on another's send",

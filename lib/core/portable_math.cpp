@@ -1,0 +1,163 @@
+#include "core/portable_math.hpp"
+
+#include <array>
+#include <cmath>
+
+namespace stepstone {
+
+std::string_view to_string(Math math) { return math == Math::portable ? "portable" : "libm"; }
+
+}  // namespace stepstone
+
+namespace stepstone::portable {
+
+namespace {
+
+// pi/2 in three parts: the first two of 33 significant bits, so that k * part
+// is exact for |k| < 2^20
+constexpr double kHalfPi1 = 0x1.921fb54400000p+0;
+constexpr double kHalfPi2 = 0x1.0b4611a600000p-34;
+constexpr double kHalfPi3 = 0x1.3198a2e037073p-69;
+constexpr double kTwoOverPi = 0x1.45f306dc9c883p-1;
+
+// ln 2 in two parts, the first of 33 bits
+constexpr double kLn2Hi = 0x1.62e42fef00000p-1;
+constexpr double kLn2Lo = 0x1.473de6af278edp-34;
+constexpr double kInvLn2 = 0x1.71547652b82fep+0;
+
+// 1 / n!, rounded once
+constexpr double inverse_factorial(int n) {
+    double f = 1.0;
+    for (int i = 2; i <= n; ++i) f *= static_cast<double>(i);
+    return 1.0 / f;
+}
+
+// The Taylor coefficients (-1)^(k+1) / (first + 2k)!, k = 0..7, each rounded once: from 1/3! for
+// sin's series, from 1/4! for cos's
+constexpr std::array<double, 8> alternating_coefficients(int first) {
+    std::array<double, 8> c{};
+    for (int k = 0; k < 8; ++k) c[k] = (k % 2 == 0 ? -1.0 : 1.0) * inverse_factorial(first + 2 * k);
+    return c;
+}
+constexpr auto kSinCoefficients = alternating_coefficients(3);
+constexpr auto kCosCoefficients = alternating_coefficients(4);
+
+// c[0] + z c[1] + ... + z^7 c[7], by Horner from the highest term
+double horner(double z, const std::array<double, 8>& c) {
+    double p = c[7];
+    for (int k = 6; k >= 0; --k) p = c[k] + z * p;
+    return p;
+}
+
+// sin and cos of r, |r| <= pi/4 (plus rounding): Taylor series to r^17 and
+// r^18, whose first omitted terms are below 1e-19
+double sin_kernel(double r) {
+    const double z = r * r;
+    return r + r * (z * horner(z, kSinCoefficients));
+}
+
+double cos_kernel(double r) {
+    const double z = r * r;
+    // the series from z^2 on, with its signs flipped: cos r = 1 - (z/2 + z^2 p), the small terms
+    // summed first
+    const double p = horner(z, kCosCoefficients);
+    const double half = 0.5 * z;
+    return 1.0 - (half + z * (z * p));
+}
+
+// log(m) for m in [sqrt(1/2), sqrt(2)): 2 atanh(s), s = (m - 1) / (m + 1),
+// |s| <= 0.172, the series to s^25
+double log_kernel(double m) {
+    const double s = (m - 1.0) / (m + 1.0);
+    const double z = s * s;
+    double p = 1.0 / 25.0;
+    for (int n = 23; n >= 3; n -= 2) p = 1.0 / static_cast<double>(n) + z * p;
+    return 2.0 * s + 2.0 * s * (z * p);
+}
+
+// exp(t + tail) for finite t and |tail| <= 2^-40 |t|: t = k ln 2 + r, |r| <= ln 2 / 2, Taylor to
+// r^17; the tail joins r, where its bits are kept
+double exp_of(double t, double tail) {
+    const double k = std::nearbyint(t * kInvLn2);
+    const double r = ((t - k * kLn2Hi) - k * kLn2Lo) + tail;
+    double p = inverse_factorial(17);
+    for (int n = 16; n >= 2; --n) p = inverse_factorial(n) + r * p;
+    const double e = 1.0 + (r + r * (r * p));
+    return std::ldexp(e, static_cast<int>(k));
+}
+
+// a b = hi + lo exactly (Dekker's product: each factor split in two halves of 26 bits, no FMA)
+void exact_product(double a, double b, double& hi, double& lo) {
+    constexpr double kSplit = 134217729.0;  // 2^27 + 1
+    const double ca = kSplit * a;
+    const double a_hi = ca - (ca - a);
+    const double a_lo = a - a_hi;
+    const double cb = kSplit * b;
+    const double b_hi = cb - (cb - b);
+    const double b_lo = b - b_hi;
+    hi = a * b;
+    lo = ((a_hi * b_hi - hi) + a_hi * b_lo + a_lo * b_hi) + a_lo * b_lo;
+}
+
+}  // namespace
+
+void sincos(double x, double& s, double& c) {
+    const double k = std::nearbyint(x * kTwoOverPi);
+    const double r = ((x - k * kHalfPi1) - k * kHalfPi2) - k * kHalfPi3;
+    const double sr = sin_kernel(r);
+    const double cr = cos_kernel(r);
+    // x = k pi/2 + r: the quadrant k mod 4 rotates (cos r, sin r)
+    switch (static_cast<long long>(k) & 3) {
+        case 0:
+            s = sr, c = cr;
+            break;
+        case 1:
+            s = cr, c = -sr;
+            break;
+        case 2:
+            s = -sr, c = -cr;
+            break;
+        default:
+            s = -cr, c = sr;
+            break;
+    }
+}
+
+double sin(double x) {
+    double s = 0.0;
+    double c = 0.0;
+    sincos(x, s, c);
+    return s;
+}
+
+double cos(double x) {
+    double s = 0.0;
+    double c = 0.0;
+    sincos(x, s, c);
+    return c;
+}
+
+double pow(double base, double exponent) {
+    if (base == 0.0) return 0.0;
+    if (base == 1.0) return 1.0;
+    int e = 0;
+    double m = std::frexp(base, &e);  // base = m 2^e, m in [1/2, 1)
+    if (m < 0x1.6a09e667f3bcdp-1) {   // below sqrt(1/2): into [sqrt(1/2), sqrt(2))
+        m *= 2.0;
+        --e;
+    }
+    const double log_m = log_kernel(m);
+    const double ke = static_cast<double>(e);
+    // t = exponent * (e ln 2 + log m) in two doubles: e ln2_hi is exact and its product with the
+    // exponent is kept whole, so t carries no rounding proportional to |t| (|t| reaches 37 when base
+    // is 2^-53, which would cost as many ulp)
+    double head = 0.0;
+    double head_lo = 0.0;
+    exact_product(exponent, ke * kLn2Hi, head, head_lo);
+    const double rest = exponent * (ke * kLn2Lo + log_m);
+    const double t = head + rest;
+    const double t_lo = (head - t) + rest;  // exact when |head| >= |rest|, else within an ulp of rest
+    return exp_of(t, t_lo + head_lo);
+}
+
+}  // namespace stepstone::portable
