@@ -56,14 +56,6 @@ Evaluation get_evaluation(ByteReader& in) {
     return e;
 }
 
-// one genome as every rank evaluates it: the episode, then r_max under the shaping KB
-Evaluation evaluate_one(const sim::Task& task, const nn::Genome& genome, const nn::DnnConfig& dnn,
-                        const kb::KnowledgeBase* shaping, std::span<float> behaviour) {
-    Evaluation evaluation = evaluate_genome(task, genome, dnn, behaviour);
-    if (shaping) evaluation.r_max = shaped_r_max(*shaping, behaviour);
-    return evaluation;
-}
-
 // the pairs as plain numbers, first and second of each in turn
 std::vector<std::uint32_t> flatten(std::span<const evo::PositionPair> pairs) {
     std::vector<std::uint32_t> flat;
@@ -74,16 +66,21 @@ std::vector<std::uint32_t> flatten(std::span<const evo::PositionPair> pairs) {
 
 // ------------------------------------------------------------------ rank 0
 
+// At most this many evaluations at a time on rank 0, in lanes (two lanes' worth, ~30 ms): a reply
+// waits that long at most, while the rank that sent it has its next chunk already
+constexpr std::size_t kOwnEvaluations = 16;
+
 // Rank 0's side of sharing `n` items out: chunks to the other ranks
 // (send_chunk(rank, first, count)), whose replies take(message) stores,
 // returning how many items it held; while no reply waits, rank 0 does the
-// next item itself (do_one(k)). Returns when all n are done. Chunks shrink
-// with the items left (a share of them, at least `min_chunk`), so that no
-// rank is still busy with a large one when the others run out. A signal,
-// or a message to or from a rank that died, ends it with EvaluationInterrupted.
-template <class SendChunk, class Take, class DoOne>
-void share_out(MpiLeader& leader, std::size_t n, std::size_t min_chunk, SendChunk send_chunk, Take take,
-               DoOne do_one) try {
+// next items itself (do_own(first, count), at most `own_chunk` of them).
+// Returns when all n are done. Chunks shrink with the items left (a share of
+// them, at least `min_chunk`; rank 0's own at least 1), so that no rank is
+// still busy with a large one when the others run out. A signal, or a
+// message to or from a rank that died, ends it with EvaluationInterrupted.
+template <class SendChunk, class Take, class DoOwn>
+void share_out(MpiLeader& leader, std::size_t n, std::size_t min_chunk, std::size_t own_chunk,
+               SendChunk send_chunk, Take take, DoOwn do_own) try {
     mpi::Session& session = leader.session();
     const std::size_t shares = 2 * static_cast<std::size_t>(session.size());
     std::size_t next = 0, done = 0;
@@ -110,8 +107,12 @@ void share_out(MpiLeader& leader, std::size_t n, std::size_t min_chunk, SendChun
             done += take(message);
             if (next < n) hand_out(message.source);
         } else if (next < n) {
-            do_one(next++);  // nothing to read: rank 0 does the next item itself
-            ++done;
+            // nothing to read: rank 0 does the next items itself
+            const std::size_t left = n - next;
+            const std::size_t count = std::min(own_chunk, std::max<std::size_t>(1, left / shares));
+            do_own(next, count);
+            next += count;
+            done += count;
         } else {
             mpi::Session::pause(polls);
         }
@@ -136,8 +137,8 @@ public:
         const std::size_t width = task_->behaviour_size();
         const bool want = behaviours != nullptr;
         std::vector<Evaluation> results(n);
-        // rank 0's own evaluations, when not kept: recorded only for their r_max (recording costs time)
-        std::vector<float> own(shaping_ ? width : 0);
+        // rank 0's own chunk's behaviours, recorded only when kept or for r_max (recording costs time)
+        std::vector<float> own;
         if (want) behaviours->resize(n * width);  // every slot is written (evaluate_all)
         auto send_chunk = [&](int rank, std::size_t first, std::size_t count) {
             ByteWriter out;
@@ -154,12 +155,22 @@ public:
             if (want) in.get_exactly(std::span<float>(behaviours->data() + first * width, count * width));
             return static_cast<std::size_t>(count);
         };
-        auto do_one = [&](std::size_t k) {
-            const std::span<float> behaviour =
-                want ? std::span<float>(behaviours->data() + k * width, width) : std::span<float>(own);
-            results[k] = evaluate_one(*task_, genomes[k], dnn_, shaping_, behaviour);
+        // rank 0's own items: in lanes, as a worker's chunk (evaluate_all; a queue of fewer than 4
+        // goes one at a time there), each result bit for bit the genome's alone
+        auto do_own = [&](std::size_t first, std::size_t count) {
+            const auto chunk = std::span<const nn::Genome>(genomes).subspan(first, count);
+            std::vector<Evaluation> done =
+                evaluate_all(*task_, chunk, dnn_, 1, want || shaping_ ? &own : nullptr);
+            for (std::size_t i = 0; i < count; ++i) {
+                const std::span<const float> behaviour(own.data() + i * width, want || shaping_ ? width : 0);
+                if (shaping_) done[i].r_max = shaped_r_max(*shaping_, behaviour);
+                if (want)
+                    std::copy(behaviour.begin(), behaviour.end(),
+                              behaviours->begin() + static_cast<long>((first + i) * width));
+                results[first + i] = std::move(done[i]);
+            }
         };
-        share_out(leader_, n, 1, send_chunk, take, do_one);
+        share_out(leader_, n, 1, kOwnEvaluations, send_chunk, take, do_own);
         return results;
     }
 
@@ -200,13 +211,13 @@ public:
                       results.begin() + static_cast<long>(first * evo::kLanes));
             return (received.size() + evo::kLanes - 1) / evo::kLanes;
         };
-        auto do_one = [&](std::size_t b) {
-            const auto batch = pairs_of(b, 1);
-            const auto own = evo::pair_distances(batch, trajectories, length, 1);
-            std::copy(own.begin(), own.end(), results.begin() + static_cast<long>(b * evo::kLanes));
+        auto do_own = [&](std::size_t first, std::size_t count) {
+            const auto own = evo::pair_distances(pairs_of(first, count), trajectories, length, 1);
+            std::copy(own.begin(), own.end(), results.begin() + static_cast<long>(first * evo::kLanes));
         };
-        // a batch takes tens of microseconds: fewer than 8 a message would cost more than they save
-        share_out(leader_, batches, 8, send_chunk, take, do_one);
+        // a batch takes tens of microseconds: fewer than 8 a message would cost more than they save;
+        // rank 0 takes one at a time, so that it reads a reply within tens of microseconds
+        share_out(leader_, batches, 8, 1, send_chunk, take, do_own);
         return results;
     }
 
