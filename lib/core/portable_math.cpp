@@ -99,6 +99,24 @@ void exact_product(double a, double b, double& hi, double& lo) {
     lo = ((a_hi * b_hi - hi) + a_hi * b_lo + a_lo * b_hi) + a_lo * b_lo;
 }
 
+// atan u for |u| <= tan(pi/8) + rounding: u - u^3/3 + ... to u^47, whose
+// first omitted term is below 2^-54 u
+double atan_kernel(double u) {
+    const double z = u * u;
+    double p = -1.0 / 47.0;
+    for (int n = 45; n >= 3; n -= 2) p = (n % 4 == 1 ? 1.0 : -1.0) / static_cast<double>(n) + z * p;
+    return u + u * (z * p);
+}
+
+// pi/4, pi/2 and pi as a double and the rest
+constexpr double kQuarterPi = 0x1.921fb54442d18p-1;
+constexpr double kQuarterPiLo = 0x1.1a62633145c07p-55;
+constexpr double kHalfPi = 0x1.921fb54442d18p+0;
+constexpr double kHalfPiLo = 0x1.1a62633145c07p-54;
+constexpr double kPi = 0x1.921fb54442d18p+1;
+constexpr double kPiLo = 0x1.1a62633145c07p-53;
+constexpr double kTanEighthPi = 0x1.a827999fcef32p-2;
+
 }  // namespace
 
 void sincos(double x, double& s, double& c) {
@@ -135,6 +153,40 @@ double cos(double x) {
     double c = 0.0;
     sincos(x, s, c);
     return c;
+}
+
+double atan2(double y, double x) {
+    if (std::isnan(x) || std::isnan(y)) return x + y;
+    const double ax = std::fabs(x);
+    const double ay = std::fabs(y);
+    double a = 0.0;  // the angle of (|x|, |y|), in [0, pi/2]
+    if (ay == 0.0) {
+        a = 0.0;
+    } else if (ax == 0.0 || std::isinf(ay)) {
+        a = std::isinf(ax) ? kQuarterPi : kHalfPi;
+    } else if (std::isinf(ax)) {
+        a = 0.0;
+    } else {
+        const bool steep = ay > ax;
+        const double lo = steep ? ax : ay;
+        const double hi = steep ? ay : ax;
+        const double t = lo / hi;  // in (0, 1]
+        // atan t, its small part kept apart from the constant it is added to; above tan(pi/8),
+        // atan t = pi/4 + atan u with u = (lo - hi) / (lo + hi), from the magnitudes themselves
+        // (lo - hi is exact there) rather than from the rounded t
+        double head = 0.0;
+        double small = 0.0;
+        if (t > kTanEighthPi) {
+            head = kQuarterPi;
+            small = atan_kernel((lo - hi) / (lo + hi)) + kQuarterPiLo;
+        } else {
+            small = atan_kernel(t);
+        }
+        // steep: pi/2 - atan t
+        a = steep ? (kHalfPi - head) + (kHalfPiLo - small) : head + small;
+    }
+    if (std::signbit(x)) a = (kPi - a) + kPiLo;  // the left half plane (x = -0 too)
+    return std::copysign(a, y);
 }
 
 double pow(double base, double exponent) {

@@ -86,7 +86,7 @@ void overlap_bearings(const WallBox& box, double cx, double cy, double reference
     lo = 0.0;
     hi = 0.0;
     overlap_vertices(box, cx, cy, [&](double dx, double dy) {
-        const double rel = normalize_angle(std::atan2(dy, dx) - reference);
+        const double rel = normalize_angle(evaluation_atan2(dy, dx) - reference);
         lo = std::min(lo, rel);
         hi = std::max(hi, rel);
     });
@@ -417,7 +417,7 @@ constexpr unsigned kSure = 4;
 // overlap region from atan2, relative to the closest point's bearing (which
 // lies inside it), then whether it meets each quarter
 unsigned bumpers_by_angles(const WallBox& box, const Pose& pose, double px, double py) {
-    const double closest = std::atan2(py - pose.y, px - pose.x);
+    const double closest = evaluation_atan2(py - pose.y, px - pose.x);
     double lo = 0.0;
     double hi = 0.0;
     overlap_bearings(box, pose.x, pose.y, closest, lo, hi);

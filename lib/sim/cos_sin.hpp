@@ -75,6 +75,14 @@ private:
     CosSinMemos* previous_;
 };
 
+/// std::atan2(y, x), or portable::atan2 in an evaluation whose config says
+/// "math": "portable" (the current memos say which): the simulator's one other
+/// function of the math library, in the bumpers' rare fallback to bearings
+/// (Arena::contact). Every call of lib/sim goes through here or a memo.
+inline double evaluation_atan2(double y, double x) {
+    return current_memos().portable ? portable::atan2(y, x) : std::atan2(y, x);
+}
+
 /// std::cos and std::sin of `angle`, remembering the last angle asked in the
 /// current memos: the odometry of a straight move and the sensors at the
 /// pose it reaches ask for the same heading. The memo holds the exact values

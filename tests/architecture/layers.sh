@@ -27,6 +27,13 @@ while IFS= read -r hit; do fail "a library message names a flag: $hit"; done \
     < <(grep -rnE '"[^"]*--[a-z][a-z-]*' lib --include='*.cpp' --include='*.hpp' \
             | grep -v '^lib/bench/' | grep -vE '^[^:]+:[0-9]+:\s*//' || true)
 
+# a run's sines, cosines and bearings come through sim/cos_sin.hpp, which picks glibc's or the
+# portable ones by the run's "math"; the reference world (Box2D) and the scripted controller are
+# not runs
+while IFS= read -r hit; do fail "a math-library call outside sim/cos_sin.hpp: $hit"; done \
+    < <(grep -rnE 'std::(sin|cos|atan2|tan|asin|acos|atan)\(' lib/sim --include='*.cpp' --include='*.hpp' \
+            | grep -vE '^lib/sim/(cos_sin\.hpp|world\.cpp|controllers\.cpp):' || true)
+
 # ctest splits a test name at ';', Catch reads '[' as a tag and a leading '-' as an option: such a
 # case would run nothing. perl reads each file whole, as clang-format may wrap the name.
 while IFS= read -r hit; do fail "a test name ctest or Catch would misread: $hit"; done \

@@ -1,4 +1,4 @@
-// core/portable_math against long double's sinl, cosl and powl (64-bit
+// core/portable_math against long double's sinl, cosl, atan2l and powl (64-bit
 // mantissas, an oracle 2^11 times finer than the results checked), on the
 // arguments a run gives them.
 #include "core/portable_math.hpp"
@@ -95,4 +95,33 @@ TEST_CASE("portable pow is within 1.5 ulp on the polynomial mutation's arguments
     CHECK(portable::pow(1.0, 0.25) == 1.0);
     CHECK(portable::pow(0.25, 0.5) == 0.5);
     CHECK(portable::pow(0.125, 1.0 / 3.0) == Approx(0.5).epsilon(1e-15));
+}
+
+TEST_CASE("portable atan2 is within 2 ulp in every quadrant, with std::atan2's signed zeros and axes",
+          "[core][math]") {
+    Uniform uniform;
+    double worst = 0.0;
+    for (int i = 0; i < 200000; ++i) {
+        // offsets from the robot to a wall's vertex or closest point: both signs, scales 2^-20 to 2^20
+        const double y = (uniform.next() - 0.5) * std::ldexp(1.0, static_cast<int>(uniform.next() * 40) - 20);
+        const double x = (uniform.next() - 0.5) * std::ldexp(1.0, static_cast<int>(uniform.next() * 40) - 20);
+        worst = std::max(worst, ulps(portable::atan2(y, x),
+                                     atan2l(static_cast<long double>(y), static_cast<long double>(x))));
+    }
+    INFO("largest error: " << worst << " ulp");
+    CHECK(worst <= 2.0);
+    // the axes, the diagonals and the zeros, as C's atan2 defines them
+    const double pi = 3.14159265358979323846;
+    CHECK(portable::atan2(0.0, 1.0) == 0.0);
+    CHECK(std::signbit(portable::atan2(-0.0, 1.0)));
+    CHECK(portable::atan2(0.0, -1.0) == pi);
+    CHECK(portable::atan2(-0.0, -1.0) == -pi);
+    CHECK(portable::atan2(0.0, -0.0) == pi);
+    CHECK(portable::atan2(1.0, 0.0) == pi / 2);
+    CHECK(portable::atan2(-1.0, 0.0) == -pi / 2);
+    CHECK(portable::atan2(1.0, 1.0) == pi / 4);
+    CHECK(portable::atan2(-2.0, -2.0) == -3 * pi / 4);
+    CHECK(portable::atan2(1.0, INFINITY) == 0.0);
+    CHECK(portable::atan2(INFINITY, 1.0) == pi / 2);
+    CHECK(std::isnan(portable::atan2(NAN, 1.0)));
 }

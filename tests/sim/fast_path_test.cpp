@@ -133,6 +133,26 @@ TEST_CASE("the heading memo gives std::cos and std::sin bit for bit", "[sim][rob
     CHECK(std::signbit(cos_sin(-0.0).s) == true);
 }
 
+TEST_CASE("evaluation_atan2 is glibc's, or the portable one inside a portable evaluation's scope",
+          "[sim][arena][math]") {
+    stepstone::Rng rng(5);
+    int differing = 0;
+    for (int i = 0; i < 2'000; ++i) {
+        const double y = rng.uniform(-50.0, 50.0);
+        const double x = rng.uniform(-50.0, 50.0);
+        const double libm = std::atan2(y, x);
+        const double own = stepstone::portable::atan2(y, x);
+        differing += libm != own;
+        REQUIRE(std::bit_cast<std::uint64_t>(evaluation_atan2(y, x)) == std::bit_cast<std::uint64_t>(libm));
+        CosSinMemos memos;
+        memos.portable = true;
+        const CosSinMemoScope scope(memos);
+        REQUIRE(std::bit_cast<std::uint64_t>(evaluation_atan2(y, x)) == std::bit_cast<std::uint64_t>(own));
+    }
+    // the two functions must differ somewhere for the checks above to tell them apart
+    CHECK(differing > 100);
+}
+
 TEST_CASE("contact far off the map falls back to every wall and agrees with the overlap test", "[sim][arena][fast]") {
     const Arena arena;
     stepstone::Rng rng(5);
