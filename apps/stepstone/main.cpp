@@ -15,6 +15,10 @@
 #include "core/math_fingerprint.hpp"
 #include "core/text.hpp"
 #include "core/version.hpp"
+#include "evo/edit_distance.hpp"
+#include "kb/detail/simd.hpp"
+#include "nn/network.hpp"
+#include "sim/arena.hpp"
 
 namespace stepstone::app {
 
@@ -205,6 +209,25 @@ std::string unknown_option(const CLI::App& app, int argc, char** argv) {
     return "";
 }
 
+// which builds of the hand-written kernels this process runs: "avx2", "generic" (a CPU without
+// AVX2, or STEPSTONE_NO_AVX2 set: core/cpu.hpp), or the modules that differ
+std::string kernels() {
+    const std::vector<std::pair<const char*, bool>> modules{
+        {"sim", stepstone::sim::avx2_kernels()},
+        {"nn", stepstone::nn::cpu_has_avx2()},
+        {"evo", stepstone::evo::EditDistanceBatch().uses_avx2()},
+        {"kb", stepstone::kb::detail::use_avx2()}};
+    std::string avx2;
+    std::string generic;
+    for (const auto& [name, on] : modules) {
+        std::string& list = on ? avx2 : generic;
+        list += (list.empty() ? "" : " ") + std::string(name);
+    }
+    if (generic.empty()) return "avx2";
+    if (avx2.empty()) return "generic";
+    return "avx2 in " + avx2 + ", generic in " + generic;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -213,7 +236,7 @@ int main(int argc, char** argv) {
     app.set_version_flag("--version", [] {
         return "stepstone " + std::string(stepstone::program_version()) + " (commit " +
                std::string(stepstone::build_commit()) + ", math fingerprint " +
-               stepstone::math_fingerprint() + ")";
+               stepstone::math_fingerprint() + ", kernels " + kernels() + ")";
     });
     app.require_subcommand(1);
     app.footer(stepstone::app::example({"stepstone db info run.db", "stepstone demo"}));

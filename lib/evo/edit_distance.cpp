@@ -6,6 +6,7 @@
 #include <cstring>
 
 #include "core/assert.hpp"
+#include "core/cpu.hpp"
 
 #if defined(__x86_64__) || defined(__i386__)
 #define STEPSTONE_EVO_HAVE_AVX2_KERNEL 1
@@ -274,7 +275,7 @@ void batch_portable(const float* ax_all, const float* ay_all, const float* bx_al
 bool cpu_has_avx2() {
 #ifdef STEPSTONE_EVO_HAVE_AVX2_KERNEL
     __builtin_cpu_init();
-    return __builtin_cpu_supports("avx2");
+    return __builtin_cpu_supports("avx2") && avx2_allowed();
 #else
     return false;
 #endif

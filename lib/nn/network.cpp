@@ -4,6 +4,7 @@
 #include <cstring>
 
 #include "core/assert.hpp"
+#include "core/cpu.hpp"
 #include "nn/activation.hpp"
 #include "nn/reference_network.hpp"
 
@@ -147,7 +148,7 @@ void sigmoid_step(const float* scaled_biases, const float* sums, float* states, 
 bool cpu_has_avx2() {
 #ifdef STEPSTONE_NN_HAVE_AVX2_KERNEL
     __builtin_cpu_init();
-    return __builtin_cpu_supports("avx2");
+    return __builtin_cpu_supports("avx2") && avx2_allowed();
 #else
     return false;
 #endif

@@ -11,6 +11,7 @@
 #endif
 
 #include "core/assert.hpp"
+#include "core/cpu.hpp"
 #include "core/error.hpp"
 #include "core/text.hpp"
 #include "sim/cos_sin.hpp"
@@ -103,7 +104,7 @@ bool meets(double lo, double hi, double a, double b) {
 bool cpu_has_avx2() {
 #ifdef STEPSTONE_SIM_HAVE_AVX2_KERNEL
     __builtin_cpu_init();
-    return __builtin_cpu_supports("avx2");
+    return __builtin_cpu_supports("avx2") && avx2_allowed();
 #else
     return false;
 #endif

@@ -2,7 +2,8 @@
 // --version, in a run file, and in the warning when a run is resumed on a
 // machine whose math library rounds differently. The other machine is real:
 // with GLIBC_TUNABLES=glibc.cpu.hwcaps=-AVX2,-FMA, glibc uses its build of sin, cos and
-// pow without FMA instructions, as it does on a CPU that lacks them.
+// pow without FMA instructions, as it does on a CPU that lacks them, and with
+// STEPSTONE_NO_AVX2=1 stepstone runs the generic builds of its own kernels.
 #include <catch2/catch.hpp>
 #include <string>
 #include <vector>
@@ -26,10 +27,10 @@ bool cpu_has_fma() {
     return __builtin_cpu_supports("fma") && __builtin_cpu_supports("avx2");
 }
 
-// the stepstone binary as a machine without FMA runs it
+// the stepstone binary as a machine without FMA and AVX2 runs it
 test::CliResult run_elsewhere(const std::vector<std::string>& args) {
     std::vector<std::string> command{"/usr/bin/env", "GLIBC_TUNABLES=glibc.cpu.hwcaps=-AVX2,-FMA",
-                                     STEPSTONE_BINARY};
+                                     "STEPSTONE_NO_AVX2=1", STEPSTONE_BINARY};
     command.insert(command.end(), args.begin(), args.end());
     return test::run_program(command);
 }
@@ -47,8 +48,10 @@ const char* kTiny = R"({"task": {"kind": "source", "steps_per_start": 100, "star
 
 }  // namespace
 
-TEST_CASE("the --version line names the math fingerprint, which tells glibc's FMA build from its plain one",
-          "[cli][determinism]") {
+TEST_CASE(
+    "the --version line names the math fingerprint (glibc's FMA build or its plain one) and the kernels' "
+    "build",
+    "[cli][determinism]") {
     const auto here = test::run_cli({"--version"});
     REQUIRE(here.exit_code == 0);
     const std::string fingerprint = fingerprint_of(here);
@@ -63,6 +66,9 @@ TEST_CASE("the --version line names the math fingerprint, which tells glibc's FM
     REQUIRE(elsewhere.exit_code == 0);
     CHECK(fingerprint_of(elsewhere).size() == 16);
     CHECK(fingerprint_of(elsewhere) != fingerprint);
+    // every module's own kernels: the AVX2 builds here, the generic ones there
+    CHECK_THAT(here.out, Contains("kernels avx2)"));
+    CHECK_THAT(elsewhere.out, Contains("kernels generic)"));
 }
 
 TEST_CASE(

@@ -11,14 +11,18 @@
 
 #include <cstdlib>
 
+#include "core/cpu.hpp"
+
 namespace stepstone::kb::detail {
 
 /// True when the hand-written AVX2 kernels of the knowledge base run: the CPU
-/// has AVX2 and the environment does not set STEPSTONE_KB_GENERIC (so that the
-/// generic kernels are tested, and can be compared, on any machine).
+/// has AVX2 and the environment sets neither STEPSTONE_KB_GENERIC (so that the
+/// generic kernels are tested, and can be compared, on any machine) nor
+/// STEPSTONE_NO_AVX2 (core/cpu.hpp).
 inline bool use_avx2() {
 #if defined(__x86_64__) || defined(__i386__)
-    static const bool avx2 = __builtin_cpu_supports("avx2") && std::getenv("STEPSTONE_KB_GENERIC") == nullptr;
+    static const bool avx2 =
+        __builtin_cpu_supports("avx2") && std::getenv("STEPSTONE_KB_GENERIC") == nullptr && avx2_allowed();
     return avx2;
 #else
     return false;
