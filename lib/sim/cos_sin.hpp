@@ -31,12 +31,20 @@ struct CosSinMemo {
     }
 
     static CosSin compute(double angle, bool portable) {
-        if (portable) {
+        return portable ? compute<true>(angle) : compute<false>(angle);
+    }
+
+    /// The same with the kind known at compile time: the libm path compiles
+    /// as it did before the portable functions existed.
+    template <bool Portable>
+    static CosSin compute(double angle) {
+        if constexpr (Portable) {
             CosSin both;
             portable::sincos(angle, both.s, both.c);
             return both;
+        } else {
+            return {std::cos(angle), std::sin(angle)};
         }
-        return {std::cos(angle), std::sin(angle)};
     }
 };
 
@@ -51,13 +59,18 @@ struct CosSinMemos {
 };
 
 namespace detail {
+// both constant-initialised, so that reading them is a plain thread-local load (an initialiser
+// such as &thread_memos would put a guard check on every read, several times a step)
 inline thread_local CosSinMemos thread_memos;
-inline thread_local CosSinMemos* current_memos = &thread_memos;
+inline thread_local CosSinMemos* current_memos = nullptr;
 }  // namespace detail
 
-/// The memos cos_sin() and move_pose() use on this thread: the thread's own,
-/// or those of the evaluation a CosSinMemoScope names.
-inline CosSinMemos& current_memos() { return *detail::current_memos; }
+/// The memos cos_sin() and move_pose() use on this thread: those of the
+/// evaluation a CosSinMemoScope names, else the thread's own.
+inline CosSinMemos& current_memos() {
+    CosSinMemos* const scoped = detail::current_memos;
+    return scoped != nullptr ? *scoped : detail::thread_memos;
+}
 
 /// Makes `memos` the calling thread's memos until the scope ends (then the
 /// previous ones again): an Episode's step uses its own, so that evaluations

@@ -14,32 +14,43 @@ double normalize_angle(double angle) {
     return angle;
 }
 
-Pose move_pose(const Pose& pose, double left, double right) {
-    const double alpha = (right - left) / kWheelBase;
+namespace {
+
+// the arc of a turning move, with the run's sin and cos known at compile time (one branch a move)
+template <bool Portable>
+Pose move_arc(const Pose& pose, double left, double alpha, CosSinMemo& turn_memo) {
     Pose next = pose;
-
-    // nearly equal wheels: a straight line of the left wheel's length
-    if (std::fabs(alpha) <= 1e-10) {
-        const CosSin heading = cos_sin(pose.heading);
-        next.x += left * heading.c;
-        next.y += left * heading.s;
-        return next;
-    }
-
     // an arc about the instantaneous centre, computed in the robot frame
     // (forward = local +y) and rotated by heading - pi/2 into the world
     const double radius = left / alpha + kWheelBase / 2.0;
-    CosSinMemos& memos = current_memos();
-    const CosSin turn = memos.turn.get(alpha, memos.portable);
+    const CosSin turn = turn_memo.get(alpha, Portable);
     const double local_x = (turn.c - 1.0) * radius;
     const double local_y = turn.s * radius;
-    const CosSin rotation = CosSinMemo::compute(pose.heading - kPi / 2.0, memos.portable);
+    const CosSin rotation = CosSinMemo::compute<Portable>(pose.heading - kPi / 2.0);
     const double c = rotation.c;
     const double s = rotation.s;
     next.x += local_x * c - local_y * s;
     next.y += local_x * s + local_y * c;
     next.heading = normalize_angle(pose.heading + alpha);
     return next;
+}
+
+}  // namespace
+
+Pose move_pose(const Pose& pose, double left, double right) {
+    const double alpha = (right - left) / kWheelBase;
+
+    // nearly equal wheels: a straight line of the left wheel's length
+    if (std::fabs(alpha) <= 1e-10) {
+        Pose next = pose;
+        const CosSin heading = cos_sin(pose.heading);
+        next.x += left * heading.c;
+        next.y += left * heading.s;
+        return next;
+    }
+    CosSinMemos& memos = current_memos();
+    return memos.portable ? move_arc<true>(pose, left, alpha, memos.turn)
+                          : move_arc<false>(pose, left, alpha, memos.turn);
 }
 
 bool is_still(const Pose& before, const Pose& after) {

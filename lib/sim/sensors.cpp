@@ -61,7 +61,9 @@ Windows windows_of(bool portable) {
 const Windows kLibmWindows = windows_of(false);
 const Windows kPortableWindows = windows_of(true);
 
-const Windows& current_windows() { return current_memos().portable ? kPortableWindows : kLibmWindows; }
+const Windows& windows_for(const CosSinMemos& memos) {
+    return memos.portable ? kPortableWindows : kLibmWindows;
+}
 
 // bit i set when a[i] > 0 and b[i] > 0: inside()'s two tests, slot by slot
 std::uint32_t positive_pairs(const std::array<double, kMaxLights>& a, const std::array<double, kMaxLights>& b) {
@@ -152,8 +154,9 @@ template <class Blocked>
 void sense_with(const Arena& arena, std::span<const Light> lights, const Pose& pose, const WorldState& state,
                 SensorReadings& out, Blocked&& blocked) {
     STEPSTONE_ASSERT(lights.size() <= static_cast<std::size_t>(kMaxLights));
-    const Windows& windows = current_windows();
-    const CosSin heading = cos_sin(pose.heading);
+    CosSinMemos& memos = current_memos();  // one thread-local read for the windows and the heading
+    const Windows& windows = windows_for(memos);
+    const CosSin heading = memos.heading.get(pose.heading, memos.portable);
     const double c = heading.c;
     const double s = heading.s;
     sense_lasers(arena, pose, c, s, state.door_open, out);
@@ -318,8 +321,9 @@ SightTable::Cell SightTable::cell(double x, double y, bool door_open) const {
 // candidate walls
 void sense(const Arena& arena, const SightTable& sight, const Pose& pose, const WorldState& state,
            SensorReadings& out) {
-    const Windows& windows = current_windows();
-    const CosSin heading = cos_sin(pose.heading);
+    CosSinMemos& memos = current_memos();  // one thread-local read for the windows and the heading
+    const Windows& windows = windows_for(memos);
+    const CosSin heading = memos.heading.get(pose.heading, memos.portable);
     const double c = heading.c;
     const double s = heading.s;
     sense_lasers(arena, pose, c, s, state.door_open, out);
