@@ -168,15 +168,19 @@ double atan2(double y, double x) {
         a = 0.0;
     } else {
         const bool steep = ay > ax;
-        const double lo = steep ? ax : ay;
-        const double hi = steep ? ay : ax;
+        double lo = steep ? ax : ay;
+        double hi = steep ? ay : ax;
         const double t = lo / hi;  // in (0, 1]
         // atan t, its small part kept apart from the constant it is added to; above tan(pi/8),
         // atan t = pi/4 + atan u with u = (lo - hi) / (lo + hi), from the magnitudes themselves
-        // (lo - hi is exact there) rather than from the rounded t
+        // rather than from the rounded t (lo - hi is exact from t = 1/2 on)
         double head = 0.0;
         double small = 0.0;
         if (t > kTanEighthPi) {
+            if (hi > 0x1.0p1000) {  // lo + hi must not overflow: a power of 2 changes no ratio
+                lo *= 0x1.0p-4;
+                hi *= 0x1.0p-4;
+            }
             head = kQuarterPi;
             small = atan_kernel((lo - hi) / (lo + hi)) + kQuarterPiLo;
         } else {

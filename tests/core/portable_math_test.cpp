@@ -124,4 +124,7 @@ TEST_CASE("portable atan2 is within 2 ulp in every quadrant, with std::atan2's s
     CHECK(portable::atan2(1.0, INFINITY) == 0.0);
     CHECK(portable::atan2(INFINITY, 1.0) == pi / 2);
     CHECK(std::isnan(portable::atan2(NAN, 1.0)));
+    // magnitudes whose sum would overflow
+    CHECK(portable::atan2(1e308, 1e308) == pi / 4);
+    CHECK(portable::atan2(-1.5e308, 1e308) == Approx(-std::atan(1.5)).epsilon(1e-15));
 }
