@@ -41,12 +41,11 @@ sim::TaskConfig task_config(const SimulateOptions& options) {
     if (options.starts < 1 || options.starts > 3) {
         throw ConfigError(concat("--starts must be in [1, 3], got ", options.starts));
     }
-    if (options.math != "libm" && options.math != "portable") {
-        throw ConfigError(concat("--math must be libm or portable, got '", options.math, "'"));
-    }
+    const std::optional<Math> math = parse_math(options.math);
+    if (!math) throw ConfigError(concat("--math must be libm or portable, got '", options.math, "'"));
     config.steps_per_start = options.steps;
     config.starts = options.starts;
-    config.math = options.math == "portable" ? Math::portable : Math::libm;
+    config.math = *math;
     if (!options.arena.empty()) {
         config.arena = std::make_shared<const sim::ArenaSpec>(sim::ArenaSpec::load(options.arena));
         if (options.controller == "scripted" && *config.arena != sim::paper_arena()) {

@@ -4,14 +4,22 @@
 
 namespace stepstone {
 
-/// False when the environment sets STEPSTONE_NO_AVX2 (to any value): the
-/// simulator, the networks, the diversity and the knowledge base then run the
-/// generic builds of their kernels, as on a CPU without AVX2. Every kernel
-/// gives the same bits in either build, and the tests check it end to end by
-/// running a machine without AVX2 this way. Read once, at the first call.
-inline bool avx2_allowed() {
-    static const bool allowed = std::getenv("STEPSTONE_NO_AVX2") == nullptr;
+/// True when the hand-written AVX2 kernels of the simulator, the networks, the
+/// diversity and the knowledge base may run: an x86 CPU with AVX2, and the
+/// environment does not set STEPSTONE_NO_AVX2 (to any value). Without either,
+/// every module runs the generic builds of its kernels, as on a CPU without
+/// AVX2. Every kernel gives the same bits in either build, and the tests check
+/// it end to end by running a machine without AVX2 this way. Read once.
+inline bool avx2_kernels_allowed() {
+#if defined(__x86_64__) || defined(__i386__)
+    static const bool allowed = [] {
+        __builtin_cpu_init();
+        return __builtin_cpu_supports("avx2") && std::getenv("STEPSTONE_NO_AVX2") == nullptr;
+    }();
     return allowed;
+#else
+    return false;
+#endif
 }
 
 }  // namespace stepstone

@@ -7,6 +7,13 @@ namespace stepstone {
 
 std::string_view to_string(Math math) { return math == Math::portable ? "portable" : "libm"; }
 
+std::optional<Math> parse_math(std::string_view name) {
+    for (const Math math : {Math::libm, Math::portable}) {
+        if (name == to_string(math)) return math;
+    }
+    return std::nullopt;
+}
+
 }  // namespace stepstone
 
 namespace stepstone::portable {

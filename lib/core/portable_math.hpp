@@ -1,5 +1,6 @@
 #pragma once
 
+#include <optional>
 #include <string_view>
 
 namespace stepstone {
@@ -11,6 +12,8 @@ namespace stepstone {
 enum class Math { libm, portable };
 
 std::string_view to_string(Math math);
+/// The Math that to_string names, or nothing for any other text.
+std::optional<Math> parse_math(std::string_view name);
 
 /// Sine, cosine, arc tangent and power computed from IEEE-754 additions,
 /// multiplications, divisions, nearbyint, frexp and ldexp alone (the build

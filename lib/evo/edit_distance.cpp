@@ -272,18 +272,9 @@ void batch_portable(const float* ax_all, const float* ay_all, const float* bx_al
 }
 #endif
 
-bool cpu_has_avx2() {
-#ifdef STEPSTONE_EVO_HAVE_AVX2_KERNEL
-    __builtin_cpu_init();
-    return __builtin_cpu_supports("avx2") && avx2_allowed();
-#else
-    return false;
-#endif
-}
-
 }  // namespace
 
-EditDistanceBatch::EditDistanceBatch(Simd simd) : avx2_(simd == Simd::automatic && cpu_has_avx2()) {}
+EditDistanceBatch::EditDistanceBatch(Simd simd) : avx2_(simd == Simd::automatic && avx2_kernels_allowed()) {}
 
 void EditDistanceBatch::run(std::span<const GridCell* const> first, std::span<const GridCell* const> second,
                             std::size_t length, float* out) {

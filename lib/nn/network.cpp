@@ -147,8 +147,7 @@ void sigmoid_step(const float* scaled_biases, const float* sums, float* states, 
 
 bool cpu_has_avx2() {
 #ifdef STEPSTONE_NN_HAVE_AVX2_KERNEL
-    __builtin_cpu_init();
-    return __builtin_cpu_supports("avx2") && avx2_allowed();
+    return avx2_kernels_allowed();
 #else
     return false;
 #endif

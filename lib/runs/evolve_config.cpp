@@ -114,7 +114,7 @@ EvolveConfig EvolveConfig::from_json(const nlohmann::json& json, const std::stri
         config.retain = retain == "all" ? Retain::all : Retain::front;
         std::string math(to_string(Math::libm));
         root.read_choice("math", math, {"libm", "portable"});
-        config.set_math(math == "portable" ? Math::portable : Math::libm);
+        config.set_math(*parse_math(math));  // read_choice allowed only the two names
         root.finish();
         return config;
     } catch (const ConfigError& e) {

@@ -103,8 +103,7 @@ bool meets(double lo, double hi, double a, double b) {
 
 bool cpu_has_avx2() {
 #ifdef STEPSTONE_SIM_HAVE_AVX2_KERNEL
-    __builtin_cpu_init();
-    return __builtin_cpu_supports("avx2") && avx2_allowed();
+    return avx2_kernels_allowed();
 #else
     return false;
 #endif

@@ -20,13 +20,8 @@ namespace stepstone::kb::detail {
 /// generic kernels are tested, and can be compared, on any machine) nor
 /// STEPSTONE_NO_AVX2 (core/cpu.hpp).
 inline bool use_avx2() {
-#if defined(__x86_64__) || defined(__i386__)
-    static const bool avx2 =
-        __builtin_cpu_supports("avx2") && std::getenv("STEPSTONE_KB_GENERIC") == nullptr && avx2_allowed();
+    static const bool avx2 = avx2_kernels_allowed() && std::getenv("STEPSTONE_KB_GENERIC") == nullptr;
     return avx2;
-#else
-    return false;
-#endif
 }
 
 }  // namespace stepstone::kb::detail
