@@ -7,6 +7,12 @@
 #        rebuilt from source seed 1 alone, then seeds 2012-2020 of the 3 arms
 #        (2012 of none was already run: a reproducibility check), see
 #        docs/results.md section 9, deviations
+#   src1 E1's source run of seed 1 rebuilt alone (OUT/source-1/seed-1.db) and its KB
+#        exported (OUT/source-1/kb.db); stops unless the run digest is E1's
+#   l    experiment L (docs/results.md section 10): none / sum x 40 seeds x 2000
+#        generations on the target task with the KB of src1, one run at a time;
+#        stops unless the campaign recorded E1's KB digest
+#   lcsv L's statistics so far into docs/results/l_*.csv (interim until 40 an arm)
 #   csv  the statistics of whatever has finished, into docs/results/:
 #        e1_events.csv, e1_logrank.csv, e1_runs.csv, e1_tests.csv (and e2_*),
 #        the Kaplan-Meier figure as e1_kaplan_meier.png; with e2c, its CSVs
@@ -15,12 +21,12 @@
 # Campaign directories go under OUT (default: experiments/), never into git.
 # Run a step again after an interruption: finished runs are kept (campaign --resume).
 #
-# Usage: docs/results/experiments.sh e1|e2|e2c|csv [OUT] [STEPSTONE] [JOBS]
+# Usage: docs/results/experiments.sh e1|e2|e2c|src1|l|lcsv|csv [OUT] [STEPSTONE] [JOBS]
 #   e.g. nice docs/results/experiments.sh e1 /work/exp build/release/apps/stepstone/stepstone 2
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 repo="$(cd "$here/../.." && pwd)"
-step="${1:?usage: experiments.sh e1|e2|e2c|csv [OUT] [STEPSTONE] [JOBS]}"
+step="${1:?usage: experiments.sh e1|e2|e2c|src1|l|lcsv|csv [OUT] [STEPSTONE] [JOBS]}"
 out="${2:-experiments}"
 stepstone="${3:-stepstone}"
 jobs="${4:-2}"
@@ -64,6 +70,37 @@ pool_e2() {  # E2 = every part's runs (e2_part1_*: the first machine's 34, e2_pa
     /usr/bin/python3 "$repo/scripts/logrank-check" "$here/e2_events.csv" "$here/e2_logrank.csv" > /dev/null
 }
 
+e1_run_digest=4ac92bd112bdeb45
+e1_kb_digest=3bd55b8ecc1c0c6c1b844eea1842ce9d
+
+src1() {  # E1's seed-1 source run and its KB, digest-checked
+    local dir="$out/source-1"
+    mkdir -p "$dir"
+    if [ -f "$dir/seed-1.db" ]; then
+        "$stepstone" evolve --db "$dir/seed-1.db" --resume --quiet
+    else
+        "$stepstone" evolve --config "$repo/examples/source_paper.json" --db "$dir/seed-1.db" --seed 1 --quiet
+    fi
+    local digest
+    digest="$("$stepstone" db digest "$dir/seed-1.db")"
+    case "$digest" in
+        "$e1_run_digest"*) echo "experiments.sh: source seed 1 has E1's run digest $digest" ;;
+        *) echo "experiments.sh: source seed 1 digest $digest is not E1's $e1_run_digest..." >&2; exit 1 ;;
+    esac
+    [ -f "$dir/kb.db" ] || "$stepstone" kb export "$dir/seed-1.db" --out "$dir/kb.db"
+}
+
+l_run() {
+    [ -f "$out/source-1/kb.db" ] || { echo "experiments.sh: run src1 first" >&2; exit 1; }
+    ln -sf "$out/source-1/kb.db" "$repo/examples/experiments/source_kb.db"
+    if [ -f "$out/l/campaign.db" ]; then  # the KB the campaign recorded at its start must be E1's
+        local kb
+        kb="$(sqlite3 "$out/l/campaign.db" "SELECT digest FROM campaign_kb ORDER BY name LIMIT 1")"
+        [ "$kb" = "$e1_kb_digest" ] || { echo "experiments.sh: L's KB digest $kb is not E1's $e1_kb_digest" >&2; exit 1; }
+    fi
+    campaign l "$repo/examples/experiments/l_horizon.json"
+}
+
 case "$step" in
     e1) campaign e1 "$repo/examples/experiments/e1_positive_control.json" ;;
     e2)
@@ -71,6 +108,9 @@ case "$step" in
         ln -sf "$out/e1/kb/kb.db" "$repo/examples/experiments/source_kb.db"
         campaign e2 "$repo/examples/experiments/e2_target.json" ;;
     e2c) campaign e2c "$repo/examples/experiments/e2_completion.json" ;;
+    src1) src1 ;;
+    l) l_run ;;
+    lcsv) stats l ;;
     csv) stats e1; stats e2; stats e2c e2_part2; pool_e2 ;;
-    *) echo "experiments.sh: unknown step '$step' (e1, e2, e2c or csv)" >&2; exit 2 ;;
+    *) echo "experiments.sh: unknown step '$step' (e1, e2, e2c, src1, l, lcsv or csv)" >&2; exit 2 ;;
 esac
