@@ -189,7 +189,8 @@ std::string repr(const PyKb& self) {
     const kb::KbParams& p = self.kb.params();
     return concat("<stepstone.KnowledgeBase", self.name.empty() ? "" : concat(" '", self.name, "'"), ": ",
                   self.kb.size(), " segments of ", p.segment_width, " x ", p.channels, ", delta ",
-                  shortest(p.delta), ", ", db::to_string(p.match), ">");
+                  shortest(p.delta), ", ", db::to_string(p.match),
+                  p.counting == kb::Counting::occurrence ? "" : ", counting by policy", ">");
 }
 
 // seconds the C++ side takes for lookup() (or r_max()) of every policy of a
@@ -250,14 +251,18 @@ Every answer is exact and independent of threads.
 >>> kb.observe(behaviour, reward=0.25, run="my-run", generation=0)
 >>> kb.lookup(other_behaviour).r_max
 >>> kb.save("kb.db"); stepstone.KnowledgeBase.open("kb.db"))")
-        .def(py::init([](std::size_t width, std::size_t channels, double delta, const std::string& match) {
-                 kb::KbParams params{width, channels, delta, match_of(match)};
+        .def(py::init([](std::size_t width, std::size_t channels, double delta, const std::string& match,
+                         const std::string& counting) {
+                 kb::KbParams params{width, channels, delta, match_of(match),
+                                     kb::parse_counting(counting, "counting")};
                  return PyKb(kb::KnowledgeBase(params));
              }),
              py::arg("width") = kb::kDefaultSegmentWidth, py::arg("channels") = 15, py::arg("delta") = 1.83,
-             py::arg("match") = "within_delta",
+             py::arg("match") = "within_delta", py::arg("counting") = "occurrence",
              "An empty KB: segments of `width` time steps of `channels` values, threshold `delta`, lookup "
-             "rule `match` ('within_delta' or 'nearest'). Raises ConfigError for a bad value.")
+             "rule `match` ('within_delta' or 'nearest'), credit rule `counting` ('occurrence': every "
+             "matching segment of a policy; 'policy': each KB segment once per policy). Raises ConfigError "
+             "for a bad value.")
         .def_static(
             "open", &open, py::arg("path"), py::arg("name") = py::none(),
             "The KB called `name` of a KB or run file (default: the file's only KB), opened read-only. "
@@ -337,6 +342,9 @@ Every answer is exact and independent of threads.
         .def_property_readonly(
             "match", [](const PyKb& s) { return std::string(db::to_string(s.kb.params().match)); },
             "lookup rule: 'within_delta' or 'nearest'")
+        .def_property_readonly(
+            "counting", [](const PyKb& s) { return std::string(kb::to_string(s.kb.params().counting)); },
+            "observe's credit rule: 'occurrence' or 'policy'")
         .def_property_readonly(
             "name", [](const PyKb& s) { return s.name; }, "the KB's name in its file ('' if none)")
         .def_property_readonly(

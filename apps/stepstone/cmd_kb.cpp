@@ -131,6 +131,7 @@ struct CalibrateFlags {
     std::string run;
     std::string individual = "best";
     std::string deltas = "0.5,1,1.5,1.83,2,2.5,3,4";
+    std::string reading = "segments";
     std::optional<std::size_t> segment_width;
     std::size_t neighbours = kb::kDefaultNeighbours;
     unsigned threads = 0;
@@ -141,6 +142,7 @@ struct CalibrateFlags {
 void run_calibrate(const CalibrateFlags& flags) {
     exp::CalibrateOptions options;
     options.individual = flags.individual;
+    options.reading = flags.reading == "windows" ? exp::DeltaReading::windows : exp::DeltaReading::segments;
     options.segment_width = flags.segment_width;
     options.width_name = "--segment-width";
     if (flags.deltas != "none") options.deltas = exp::parse_deltas(flags.deltas, "--deltas");
@@ -167,6 +169,11 @@ void add_calibrate(CLI::App& kb_cmd) {
     cmd->add_option("--deltas", flags->deltas,
                     "Comma-separated deltas for the size table (default: " + flags->deltas +
                         "), or 'none' for the delta alone");
+    cmd->add_option("--reading", flags->reading,
+                    "How the rule reads 'the 20 closest behaviors': segments (the policy's non-overlapping "
+                    "segments, default) or windows (every window of the segment width at stride 1, given "
+                    "with and without the windows that overlap it; the segments reading is printed too)")
+        ->check(CLI::IsMember({"segments", "windows"}));
     cmd->add_option("--segment-width", flags->segment_width,
                     "Steps per segment (default: the run's knowledge base's, else " +
                         std::to_string(kb::kDefaultSegmentWidth) + ")");
@@ -180,6 +187,7 @@ void add_calibrate(CLI::App& kb_cmd) {
     cmd->add_flag("--json", flags->json, "Print JSON instead of text");
     cmd->add_flag("--quiet", flags->quiet, "No progress on stderr");
     cmd->footer(example({"stepstone kb calibrate run.db --individual best",
+                         "stepstone kb calibrate run.db --reading windows --deltas none",
                          "stepstone kb calibrate run.db --deltas 0.5,1,1.83,2.5 --segment-width 20 --json"}));
     cmd->callback([flags] { run_calibrate(*flags); });
 }

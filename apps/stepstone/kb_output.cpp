@@ -49,6 +49,12 @@ nlohmann::json to_json(const exp::RunCalibration& result) {
     out["neighbours"] = c.neighbours;
     out["segments"] = c.segments;
     out["delta"] = c.delta;
+    out["reading"] = exp::to_string(result.reading);
+    if (result.windows) {
+        out["windows"] = {{"windows", result.windows->windows},
+                          {"delta_excluding_overlap", result.windows->excluding_overlap},
+                          {"delta_including_overlap", result.windows->including_overlap}};
+    }
     out["policies"] = c.policies;
     out["sizes"] = nlohmann::json::array();
     for (const auto& row : c.sizes) out["sizes"].push_back({{"delta", row.delta}, {"segments", row.size}});
@@ -62,6 +68,13 @@ void write_text(std::ostream& out, const exp::RunCalibration& result) {
         << "segments        " << c.segments << " of " << c.channels << " channels\n"
         << "delta           " << c.delta << "  (mean distance of each segment to its " << c.neighbours
         << " nearest others, averaged)\n";
+    if (result.windows) {
+        const auto& w = *result.windows;
+        out << "windows         " << w.windows << " of " << c.segment_width << " steps at stride 1\n"
+            << "delta (windows) " << w.excluding_overlap << "  (mean distance of each window to its "
+            << c.neighbours << " nearest windows that share no step with it, averaged)\n"
+            << "                " << w.including_overlap << "  (the same with the overlapping windows included)\n";
+    }
     if (c.sizes.empty()) return;
     out << "\nKB size over the " << c.policies << " stored policies\n"
         << "  delta       segments\n";
@@ -80,6 +93,9 @@ nlohmann::json to_json(const runs::KbStats& stats) {
     out["channels"] = stats.params.channels;
     out["delta"] = stats.params.delta;
     out["match"] = db::to_string(stats.params.match);
+    out["counting"] = kb::to_string(stats.params.counting);
+    out["digest"] = stats.digest;
+    out["zero_average_segments"] = stats.zero_average;
     out["randomized_seed"] =
         stats.randomized_seed ? nlohmann::json(*stats.randomized_seed) : nlohmann::json();
     out["max_average_reward"] = stats.max_average;
@@ -108,8 +124,14 @@ void write_text(std::ostream& out, const runs::KbStats& stats) {
         << "channels        " << stats.params.channels << '\n'
         << "delta           " << stats.params.delta << '\n'
         << "match           " << db::to_string(stats.params.match) << '\n'
+        << "counting        " << kb::to_string(stats.params.counting) << '\n'
         << "randomized_seed " << optional_seed_text(stats.randomized_seed) << '\n'
-        << "max average     " << stats.max_average << '\n';
+        << "max average     " << stats.max_average << '\n'
+        << "zero average    " << stats.zero_average << " segments ("
+        << (stats.segments == 0 ? 0.0
+                                : 100.0 * static_cast<double>(stats.zero_average) / static_cast<double>(stats.segments))
+        << " %)\n"
+        << "content digest  " << stats.digest << '\n';
 
     // the paper's Fig. 3 as text: one row per bin, bar scaled to the largest bin
     out << "\naverage reward histogram (segments per bin)\n";

@@ -105,6 +105,11 @@ std::string kb_digest(const kb::KnowledgeBase& kb, std::optional<std::uint64_t> 
     hasher.bytes(shape, sizeof shape);
     hasher.bytes(&params.delta, sizeof params.delta);
     hasher.text(to_string(params.match));
+    // occurrence, the rule of every KB before schema 7, leaves older digests as they were
+    if (params.counting != kb::Counting::occurrence) {
+        hasher.tag('C');
+        hasher.text(kb::to_string(params.counting));
+    }
     if (randomized_seed) {
         hasher.tag('S');
         hasher.bytes(&*randomized_seed, sizeof *randomized_seed);

@@ -12,6 +12,9 @@ namespace stepstone::db {
 
 namespace {
 
+// the schema version that added kb.counting (schema/0007_kb_counting.sql)
+constexpr int kFirstVersionWithCounting = 7;
+
 void write_sources(Connection& connection, std::int64_t kb_id, const kb::KnowledgeBase& kb) {
     auto upsert = connection.prepare(sql("kb/upsert_source.sql"));
     const auto sources = kb.sources();
@@ -65,6 +68,7 @@ std::int64_t insert_kb(Connection& connection, const std::string& name, const kb
         .bind(":channels", static_cast<std::int64_t>(params.channels))
         .bind(":delta", params.delta)
         .bind(":match", to_string(params.match))
+        .bind(":counting", kb::to_string(params.counting))
         .bind(":randomized_seed", seed)
         .run();
     const std::int64_t kb_id = connection.last_insert_rowid();
@@ -85,10 +89,12 @@ void update_kb(Connection& connection, std::int64_t kb_id, const kb::KnowledgeBa
 
 std::vector<KbSummary> list_kbs(Connection& connection) {
     std::vector<KbSummary> list;
-    auto select = connection.prepare(sql("kb/select_kbs.sql"));
+    const bool has_counting = database_info(connection).schema_version >= kFirstVersionWithCounting;
+    auto select = connection.prepare(sql(has_counting ? "kb/select_kbs.sql" : "kb/select_kbs_before_counting.sql"));
     const int id = select.column("id"), name = select.column("name"), width = select.column("segment_width"),
               channels = select.column("channels"), delta = select.column("delta"),
-              match = select.column("match"), seed = select.column("randomized_seed");
+              match = select.column("match"), counting = select.column("counting"),
+              seed = select.column("randomized_seed");
     while (select.step()) {
         KbSummary summary;
         summary.id = select.column_int(id);
@@ -97,6 +103,8 @@ std::vector<KbSummary> list_kbs(Connection& connection) {
         summary.params.channels = static_cast<std::size_t>(select.column_int(channels));
         summary.params.delta = select.column_double(delta);
         summary.params.match = parse_match(select.column_text(match), connection.name() + ": kb.match");
+        summary.params.counting =
+            kb::parse_counting(select.column_text(counting), connection.name() + ": kb.counting");
         if (!select.is_null(seed))
             summary.randomized_seed = static_cast<std::uint64_t>(select.column_int(seed));
         list.push_back(summary);

@@ -21,6 +21,8 @@ namespace stepstone::exp {
 
 namespace fs = std::filesystem;
 
+const char* to_string(DeltaReading reading) { return reading == DeltaReading::windows ? "windows" : "segments"; }
+
 std::vector<double> parse_deltas(const std::string& text, const std::string& what) {
     std::vector<double> deltas;
     std::size_t start = 0;
@@ -96,6 +98,9 @@ RunCalibration calibrate_run(const fs::path& run_db, const CalibrateOptions& opt
                                  " steps of the behaviours of ", run_db.string()));
     }
     out.calibration = calibrate_behaviours(best, {}, channels, width, {}, options.neighbours);
+    out.reading = options.reading;
+    if (options.reading == DeltaReading::windows)
+        out.windows = kb::calibrate_delta_windows(best, channels, width, options.neighbours);
     if (options.deltas.empty()) return out;
 
     // the size table: one KB per delta, fed batch by batch in id order

@@ -38,8 +38,18 @@ Calibration calibrate_behaviours(std::span<const float> policy, std::span<const 
                                  std::span<const double> deltas,
                                  std::size_t neighbours = kb::kDefaultNeighbours);
 
+/// How `kb calibrate` reads the rule's "20 closest behaviors during 4000 time steps".
+enum class DeltaReading {
+    segments,  ///< the policy's non-overlapping segments (kb::calibrate_delta)
+    windows,   ///< every window of the segment width at stride 1, both variants (kb::calibrate_delta_windows)
+};
+
+/// "segments" or "windows".
+const char* to_string(DeltaReading reading);
+
 /// What `kb calibrate` reads from a run file.
 struct CalibrateOptions {
+    DeltaReading reading = DeltaReading::segments;  ///< which reading of the rule
     std::string individual = "best";           ///< the successful policy: "best" or an id
     std::optional<std::size_t> segment_width;  ///< absent: the run KB's, else kb::kDefaultSegmentWidth
     std::string width_name = "segment_width";  ///< how messages name segment_width (a caller's flag)
@@ -69,6 +79,9 @@ struct RunCalibration {
     double reward = 0.0;             ///< its stored reward
     WidthSource width_from = WidthSource::default_width;
     Calibration calibration;
+    DeltaReading reading = DeltaReading::segments;
+    /// The windows reading (with DeltaReading::windows); calibration.delta is the segments reading in any case.
+    std::optional<kb::WindowDeltas> windows;
 };
 RunCalibration calibrate_run(const std::filesystem::path& run_db, const CalibrateOptions& options);
 

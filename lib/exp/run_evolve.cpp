@@ -101,6 +101,7 @@ kb::KbParams kb_params(const runs::KbConfig& config) {
     params.channels = static_cast<std::size_t>(sim::kChannels);
     params.delta = config.delta;
     params.match = db::parse_match(config.match, "kb.match");
+    params.counting = kb::parse_counting(config.counting, "kb.counting");
     params.validate();
     return params;
 }

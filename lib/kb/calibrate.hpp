@@ -22,6 +22,27 @@ inline constexpr std::size_t kDefaultNeighbours = 20;
 /// fewer than 2 segments, neighbours is 0, or a value is not finite.
 double calibrate_delta(Segments policy, std::size_t neighbours = kDefaultNeighbours);
 
+/// The delta rule read over windows instead of segments: each of the
+/// behaviour's windows of `width` rows at stride 1 (steps - width + 1 of them)
+/// takes the mean Euclidean distance to its `neighbours` nearest other
+/// windows, and delta is the mean over windows. Two variants, both computed:
+/// the candidates are every other window, or only the windows that share no
+/// row with it (|i - j| >= width). A window with fewer candidates than
+/// `neighbours` uses all it has.
+struct WindowDeltas {
+    std::size_t windows = 0;          ///< steps - width + 1
+    double excluding_overlap = 0.0;   ///< candidates: windows sharing no row with it
+    double including_overlap = 0.0;   ///< candidates: every other window
+};
+
+/// The windows reading of the rule on a behaviour matrix (row-major, one row a
+/// step, `channels` columns). Distances are summed in double. Throws DataError
+/// if channels, width or neighbours is 0, behaviour.size() is not a multiple of
+/// channels, a value is not finite, or there are fewer than 3 x width - 1
+/// steps (some window would have no candidate sharing no row with it).
+WindowDeltas calibrate_delta_windows(std::span<const float> behaviour, std::size_t channels, std::size_t width,
+                                     std::size_t neighbours = kDefaultNeighbours);
+
 /// KB size obtained with one delta.
 struct DeltaSize {
     double delta = 0.0;     ///< the threshold tried

@@ -25,6 +25,14 @@ struct SalientSlot {
 
 }  // namespace detail
 
+const char* to_string(Counting counting) { return counting == Counting::policy ? "policy" : "occurrence"; }
+
+Counting parse_counting(std::string_view text, std::string_view what) {
+    if (text == "occurrence") return Counting::occurrence;
+    if (text == "policy") return Counting::policy;
+    throw ConfigError(concat(what, " must be one of occurrence|policy, got \"", text, '"'));
+}
+
 void KbParams::validate() const {
     if (!(delta > 0) || !std::isfinite(delta)) {
         throw ConfigError(concat("delta must be > 0 and finite, got ", shortest(delta)));
@@ -234,8 +242,11 @@ ObserveResult KnowledgeBase::observe(Segments segments, double reward, Origin or
                                              snapshot);
     }
 
-    // the paper's rule, one segment at a time
+    // the paper's rule, one segment at a time; under Counting::policy the KB
+    // segments this call has credited or inserted are not credited again
     const double delta_sq = params_.delta * params_.delta;
+    const bool once = params_.counting == Counting::policy;
+    std::vector<std::size_t> credited;
     for (std::size_t i = 0; i < segments.size(); ++i) {
         const float* s = segments.values.data() + i * dim;
         std::optional<Neighbour> near;
@@ -250,12 +261,17 @@ ObserveResult KnowledgeBase::observe(Segments segments, double reward, Origin or
             near = index_.nearest_within_adaptive(values_, s, params_.delta);
         }
         if (near) {
+            ++result.matched;
+            if (once) {
+                if (near->id >= before || std::find(credited.begin(), credited.end(), near->id) != credited.end())
+                    continue;
+                credited.push_back(near->id);
+            }
             changed();
             SegmentRecord& r = records_[near->id];
             r.cum_reward += reward;
             r.count += 1;
             r.last = origin;
-            ++result.matched;
         } else {
             insert(s, SegmentRecord{reward, 1, origin, origin});
             ++result.inserted;

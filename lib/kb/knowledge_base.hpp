@@ -26,6 +26,17 @@ enum class Match {
     nearest,       ///< the nearest KB segment whatever its distance
 };
 
+/// What observe() credits when one policy's segments match a KB segment.
+enum class Counting {
+    occurrence,  ///< every matching segment of the policy: reward and count once per match
+    policy,      ///< the policy once (the paper's footnote 1): reward and a count of 1, however often it matched
+};
+
+/// "occurrence" or "policy".
+const char* to_string(Counting counting);
+/// The Counting named `text`; throws ConfigError naming `what` and the choices otherwise.
+Counting parse_counting(std::string_view text, std::string_view what = "counting");
+
 /// The paper's segment width: 20 time steps per segment.
 inline constexpr std::size_t kDefaultSegmentWidth = 20;
 
@@ -35,6 +46,7 @@ struct KbParams {
     std::size_t channels = 15;       ///< values per time step (sensors + effectors)
     double delta = 1.83;             ///< Euclidean threshold: "closer than delta" is dist < delta
     Match match = Match::within_delta;  ///< lookup rule (observe always uses delta)
+    Counting counting = Counting::occurrence;  ///< observe's credit rule (lookups do not depend on it)
 
     /// Values per segment: segment_width * channels.
     std::size_t dim() const { return segment_width * channels; }
@@ -158,7 +170,10 @@ public:
     /// the nearest KB segment (ties: lowest id) is credited (cum_reward +=
     /// reward, count += 1, last = origin) if its distance is < delta, otherwise
     /// the segment is inserted with (reward, 1); a segment inserted earlier in
-    /// the same call (or an earlier call) can therefore absorb later ones. A
+    /// the same call (or an earlier call) can therefore absorb later ones.
+    /// Under Counting::policy a KB segment is credited at most once per call:
+    /// a later match of the same KB segment (one this call inserted included)
+    /// changes nothing but ObserveResult::matched. A
     /// generation is observed by calling this for each individual in index
     /// order. Throws DataError if a value or the reward is not finite, the
     /// segment dimension differs from params().dim(), or origin.source is not
@@ -183,8 +198,8 @@ public:
     /// cum_reward and count to it (last = the other segment's last); others are
     /// inserted with their own record. Sources of `other` are appended (same
     /// name: same source, generations widened, policies added). Throws DataError
-    /// naming both values if segment_width, channels or delta differ; the KB is
-    /// then unchanged.
+    /// naming both values if segment_width, channels, delta or the counting
+    /// rule differ; the KB is then unchanged.
     void merge(const KnowledgeBase& other);
 
     /// The KB re-observed under a larger threshold: a new KB with delta
@@ -193,7 +208,9 @@ public:
     /// Every segment this KB credited was within the old delta of a kept one,
     /// so it would have been credited under the new delta too; the result is
     /// what this KB's segments give, not what re-observing the policies would
-    /// (a policy segment now falls to the nearest kept representative).
+    /// (a policy segment now falls to the nearest kept representative). Under
+    /// Counting::policy, two segments that one policy credited and that now
+    /// fall together add both counts: the count is then an upper bound.
     /// Throws ConfigError if `delta` is not finite or below this KB's delta.
     KnowledgeBase coarsened(double delta) const;
 

@@ -27,6 +27,10 @@ void check_compatible(const KbParams& a, const KbParams& b) {
         throw DataError(concat("cannot merge: delta is ", shortest(a.delta), " in the target, ",
                                shortest(b.delta), " in the merged knowledge base"));
     }
+    if (a.counting != b.counting) {
+        throw DataError(concat("cannot merge: the target counts by ", to_string(a.counting),
+                               ", the merged knowledge base by ", to_string(b.counting)));
+    }
 }
 
 }  // namespace

@@ -59,6 +59,7 @@ KbConfig read_kb(JsonReader reader) {
     if (kb.delta <= 0) throw ConfigError(concat(reader.path_of("delta"), " must be > 0, got ", kb.delta));
     reader.read("period", kb.period, 1, 100000000);
     reader.read_choice("match", kb.match, {"within_delta", "nearest"});
+    reader.read_choice("counting", kb.counting, {"occurrence", "policy"});
     reader.finish();
     return kb;
 }
@@ -168,6 +169,8 @@ nlohmann::json EvolveConfig::to_json() const {
                       {"delta", kb->delta},
                       {"period", kb->period},
                       {"match", kb->match}};
+        // as math: only when not the default, so that older stored configs compare equal
+        if (kb->counting != "occurrence") json["kb"]["counting"] = kb->counting;
     }
     if (transfer) {
         json["transfer"] = {{"treatment", to_string(transfer->treatment)},

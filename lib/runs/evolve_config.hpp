@@ -36,6 +36,7 @@ struct KbConfig {
     double delta = 1.83;                 ///< a segment closer than delta to a KB segment credits it
     int period = 200;                    ///< observe every `period` generations (1 = every generation)
     std::string match = "within_delta";  ///< lookup rule: within_delta | nearest
+    std::string counting = "occurrence";  ///< observe's credit rule: occurrence | policy (kb::Counting)
 };
 
 /// The knowledge base that shapes a run's reward and how (the paper's

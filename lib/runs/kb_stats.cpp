@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "db/digest.hpp"
 #include "runs/kb_files.hpp"
 #include "stats/summary.hpp"
 
@@ -33,6 +34,7 @@ KbStats compute_kb_stats(const kb::KnowledgeBase& kb, std::size_t bins) {
         counts.push_back(static_cast<double>(record.count));
         stats.observations += record.count;
         if (record.count == 1) ++stats.count_one;
+        if (record.cum_reward == 0.0) ++stats.zero_average;
     }
     if (!counts.empty()) {
         const auto records = kb.records();
@@ -52,6 +54,7 @@ KbStats kb_file_stats(const fs::path& kb_db, const std::string& name) {
     stats.file = kb_db.string();
     stats.name = stored.name;
     stats.randomized_seed = stored.randomized_seed;
+    stats.digest = db::kb_digest(stored.kb, stored.randomized_seed);
     if (stats.segments > 0) {
         stats.file_bytes_per_segment =
             static_cast<double>(fs::file_size(kb_db)) / static_cast<double>(stats.segments);

@@ -79,6 +79,7 @@ json kb_summary(const std::string& name, const fs::path& file, const kb::Knowled
             {"channels", p.channels},
             {"delta", p.delta},
             {"match", db::to_string(p.match)},
+            {"counting", kb::to_string(p.counting)},
             {"segments", base.size()},
             {"max_average_reward", base.max_average()},
             {"randomized_seed", randomized ? json(*randomized) : json()},

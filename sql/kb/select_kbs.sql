@@ -1,1 +1,1 @@
-SELECT id, name, segment_width, channels, delta, match, randomized_seed FROM kb ORDER BY id
+SELECT id, name, segment_width, channels, delta, match, counting, randomized_seed FROM kb ORDER BY id

@@ -79,6 +79,26 @@ struct OracleKb {
     void observe(const std::vector<float>& segments, double reward) {
         for (std::size_t i = 0; i * dim < segments.size(); ++i) add(segments.data() + i * dim, reward, 1);
     }
+
+    /// The paper's footnote 1: each KB segment counts the policy once. A KB
+    /// segment that the policy already credited, or inserted, is left alone.
+    void observe_per_policy(const std::vector<float>& segments, double reward) {
+        std::vector<bool> touched(size(), false);
+        for (std::size_t i = 0; i * dim < segments.size(); ++i) {
+            const float* s = segments.data() + i * dim;
+            if (auto m = within(s)) {
+                if (touched[m->first]) continue;
+                touched[m->first] = true;
+                cum_reward[m->first] += reward;
+                count[m->first] += 1;
+            } else {
+                values.insert(values.end(), s, s + dim);
+                cum_reward.push_back(reward);
+                count.push_back(1);
+                touched.push_back(true);
+            }
+        }
+    }
 };
 
 /// `n` segments of `dim` values uniform in [0, 1).

@@ -2,13 +2,17 @@
 answers of the stepstone CLI, a file read back with Python's sqlite3, and the
 paper's rule computed by hand in numpy."""
 
+import json
 import os
+import re
+import subprocess
 import unittest
+import urllib.request
 
 import numpy as np
 
 import stepstone
-from support import TempCase, cli, cli_json, stored_kb, write_run
+from support import BINARY, TINY_SOURCE, TempCase, cli, cli_json, stored_kb, write_run
 
 
 def behaviour(seed, steps=200, channels=15):
@@ -174,6 +178,66 @@ class Files(TempCase):
         coarse = kb.coarsened(3.0)
         cli("kb", "export", self.path("merged.db"), "--delta", 3, "--out", self.path("coarse.db"))
         np.testing.assert_array_equal(coarse.segments, stored_kb(self.path("coarse.db"))[0])
+
+
+class CountingByPolicy(TempCase):
+    """A KB that counts each policy once per KB segment (the paper's footnote 1), made by a run."""
+
+    def test_a_policy_rule_run_kb_is_read_shaped_and_served_alike(self):
+        config = dict(TINY_SOURCE, kb=dict(TINY_SOURCE["kb"], counting="policy"))
+        run_file = write_run(self.tmp, config, name="policy.db")
+        occurrence_file = write_run(self.tmp, TINY_SOURCE, name="occurrence.db")
+        kb = stepstone.KnowledgeBase.open(run_file)
+        self.assertEqual(kb.counting, "policy")
+        self.assertEqual(stepstone.KnowledgeBase.open(occurrence_file).counting, "occurrence")
+        stats = cli_json("kb", "stats", run_file, "--json")
+        self.assertEqual(stats["counting"], "policy")
+        # a source run is not shaped, so both rules see the same policies: the same
+        # segments, and by policy never more credits than by occurrence, fewer somewhere
+        by_occurrence = stepstone.KnowledgeBase.open(occurrence_file)
+        np.testing.assert_array_equal(kb.segments, by_occurrence.segments)
+        self.assertTrue((kb.records["count"] <= by_occurrence.records["count"]).all())
+        self.assertLess(kb.records["count"].sum(), by_occurrence.records["count"].sum())
+        # each policy adds at most one count to a segment: counts never exceed the policies observed
+        self.assertLessEqual(kb.records["count"].max(), sum(s["policies"] for s in kb.sources))
+
+        # shape (CLI), serve (HTTP) and the module give one r_max
+        served = subprocess.Popen([BINARY, "serve", run_file, "--port", "0"], stdout=subprocess.PIPE, text=True)
+        try:
+            port = None
+            while port is None:
+                line = served.stdout.readline()
+                self.assertTrue(line, "serve exited before listening")
+                found = re.search(r"listening on http://[^:]+:(\d+)", line)
+                port = int(found.group(1)) if found else None
+            run = stepstone.Run(run_file)
+            for individual in run.individuals(generation=4)["id"][:3]:
+                mine = kb.lookup(run.replay(int(individual))["behaviour"])
+                shaped = cli_json("shape", "--kb", run_file, "--run", run_file, "--individual", int(individual),
+                                  "--json")
+                self.assertEqual(mine.r_max, shaped["r_max"])
+                rows = run.replay(int(individual))["behaviour"].tolist()
+                request = urllib.request.Request(f"http://127.0.0.1:{port}/v1/kbs/run/shape",
+                                                 data=json.dumps({"behaviour": rows}).encode(),
+                                                 headers={"Content-Type": "application/json"})
+                with urllib.request.urlopen(request) as answer:
+                    self.assertEqual(json.load(answer)["r_max"], mine.r_max)
+        finally:
+            served.terminate()
+            served.wait(10)
+            served.stdout.close()
+
+        # KBs of two rules do not merge: one line, no file
+        merged = self.path("merged.db")
+        result = cli("kb", "merge", run_file, occurrence_file, "--out", merged, "--allow-duplicates", check=False)
+        self.assertNotEqual(result.returncode, 0)
+        self.assertEqual(len(result.stderr.strip().splitlines()), 1, result.stderr)
+        self.assertIn("counts by", result.stderr)
+        self.assertFalse(os.path.exists(merged))
+        with self.assertRaisesRegex(stepstone.DataError, "counts by policy"):
+            kb.merge(by_occurrence)
+        with self.assertRaisesRegex(stepstone.ConfigError, "occurrence|policy"):
+            stepstone.KnowledgeBase(counting="once")
 
 
 if __name__ == "__main__":

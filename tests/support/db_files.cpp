@@ -53,6 +53,7 @@ void make_schema4_run(const std::filesystem::path& path) {
         path,
         "ALTER TABLE individual DROP COLUMN presses; ALTER TABLE individual DROP COLUMN pickups;"
         "ALTER TABLE individual DROP COLUMN carry_steps; ALTER TABLE individual DROP COLUMN basket_releases;"
+        "ALTER TABLE kb DROP COLUMN counting;"
         "PRAGMA user_version = 4;");
 }
 

@@ -84,3 +84,32 @@ TEST_CASE("kb calibrate --deltas none gives the delta alone", "[cli][kb][calibra
     CHECK(a["sizes"].size() == 8);
     CHECK(b["policies"] == 0);
 }
+
+TEST_CASE("kb calibrate --reading windows gives both window variants beside the segments reading",
+          "[cli][kb][calibrate][windows]") {
+    test::TempDir dir;
+    kbtest::make_run(dir / "run.db");
+    const auto run = dir / "run.db";
+    const auto result =
+        test::run_cli({"kb", "calibrate", run.string(), "--reading", "windows", "--deltas", "none", "--json"});
+    REQUIRE(result.exit_code == 0);
+    const auto out = nlohmann::json::parse(result.out);
+    const auto behaviour = runs::replay_behaviour(run, "best");
+    const auto channels = static_cast<std::size_t>(sim::kChannels);
+    const auto expected = kb::calibrate_delta_windows(behaviour, channels, kbtest::kRunWidth);
+    CHECK(out["reading"] == "windows");
+    CHECK(out["windows"]["windows"] == kbtest::kRunSteps - kbtest::kRunWidth + 1);
+    CHECK(out["windows"]["delta_excluding_overlap"].get<double>() == expected.excluding_overlap);
+    CHECK(out["windows"]["delta_including_overlap"].get<double>() == expected.including_overlap);
+    CHECK(out["delta"].get<double>() ==
+          kb::calibrate_delta(kb::segment_behaviour(behaviour, channels, kbtest::kRunWidth), 20));
+    // the default reading prints no window figures; the text names both variants
+    const auto plain = test::run_cli({"kb", "calibrate", run.string(), "--deltas", "none", "--json"});
+    CHECK(nlohmann::json::parse(plain.out)["reading"] == "segments");
+    CHECK_FALSE(nlohmann::json::parse(plain.out).contains("windows"));
+    const auto text = test::run_cli({"kb", "calibrate", run.string(), "--reading", "windows", "--deltas", "none"});
+    CHECK_THAT(text.out, Contains("share no step with it") && Contains("overlapping windows included"));
+    const auto bad = test::run_cli({"kb", "calibrate", run.string(), "--reading", "strides"});
+    CHECK(bad.exit_code != 0);
+    CHECK_THAT(bad.err, Contains("--reading"));
+}
