@@ -73,7 +73,8 @@ void write_text(std::ostream& out, const exp::RunCalibration& result) {
         out << "windows         " << w.windows << " of " << c.segment_width << " steps at stride 1\n"
             << "delta (windows) " << w.excluding_overlap << "  (mean distance of each window to its "
             << c.neighbours << " nearest windows that share no step with it, averaged)\n"
-            << "                " << w.including_overlap << "  (the same with the overlapping windows included)\n";
+            << "                " << w.including_overlap
+            << "  (the same with the overlapping windows included)\n";
     }
     if (c.sizes.empty()) return;
     out << "\nKB size over the " << c.policies << " stored policies\n"
@@ -128,8 +129,9 @@ void write_text(std::ostream& out, const runs::KbStats& stats) {
         << "randomized_seed " << optional_seed_text(stats.randomized_seed) << '\n'
         << "max average     " << stats.max_average << '\n'
         << "zero average    " << stats.zero_average << " segments ("
-        << (stats.segments == 0 ? 0.0
-                                : 100.0 * static_cast<double>(stats.zero_average) / static_cast<double>(stats.segments))
+        << (stats.segments == 0
+                ? 0.0
+                : 100.0 * static_cast<double>(stats.zero_average) / static_cast<double>(stats.segments))
         << " %)\n"
         << "content digest  " << stats.digest << '\n';
 

@@ -90,7 +90,8 @@ void update_kb(Connection& connection, std::int64_t kb_id, const kb::KnowledgeBa
 std::vector<KbSummary> list_kbs(Connection& connection) {
     std::vector<KbSummary> list;
     const bool has_counting = database_info(connection).schema_version >= kFirstVersionWithCounting;
-    auto select = connection.prepare(sql(has_counting ? "kb/select_kbs.sql" : "kb/select_kbs_before_counting.sql"));
+    auto select =
+        connection.prepare(sql(has_counting ? "kb/select_kbs.sql" : "kb/select_kbs_before_counting.sql"));
     const int id = select.column("id"), name = select.column("name"), width = select.column("segment_width"),
               channels = select.column("channels"), delta = select.column("delta"),
               match = select.column("match"), counting = select.column("counting"),

@@ -21,7 +21,9 @@ namespace stepstone::exp {
 
 namespace fs = std::filesystem;
 
-const char* to_string(DeltaReading reading) { return reading == DeltaReading::windows ? "windows" : "segments"; }
+const char* to_string(DeltaReading reading) {
+    return reading == DeltaReading::windows ? "windows" : "segments";
+}
 
 std::vector<double> parse_deltas(const std::string& text, const std::string& what) {
     std::vector<double> deltas;

@@ -80,7 +80,8 @@ struct RunCalibration {
     WidthSource width_from = WidthSource::default_width;
     Calibration calibration;
     DeltaReading reading = DeltaReading::segments;
-    /// The windows reading (with DeltaReading::windows); calibration.delta is the segments reading in any case.
+    /// The windows reading (with DeltaReading::windows); calibration.delta is the segments reading in any
+    /// case.
     std::optional<kb::WindowDeltas> windows;
 };
 RunCalibration calibrate_run(const std::filesystem::path& run_db, const CalibrateOptions& options);

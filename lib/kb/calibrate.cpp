@@ -70,12 +70,13 @@ private:
 
 }  // namespace
 
-WindowDeltas calibrate_delta_windows(std::span<const float> behaviour, std::size_t channels, std::size_t width,
-                                     std::size_t neighbours) {
+WindowDeltas calibrate_delta_windows(std::span<const float> behaviour, std::size_t channels,
+                                     std::size_t width, std::size_t neighbours) {
     if (neighbours == 0) throw DataError("calibrate: neighbours must be >= 1, got 0");
     if (channels == 0 || width == 0) throw DataError("calibrate: channels and width must be >= 1");
     if (behaviour.size() % channels != 0) {
-        throw DataError(concat("calibrate: ", behaviour.size(), " values are not rows of ", channels, " channels"));
+        throw DataError(
+            concat("calibrate: ", behaviour.size(), " values are not rows of ", channels, " channels"));
     }
     for (float v : behaviour) {
         if (!std::isfinite(v)) throw DataError("calibrate: the policy has a non-finite value");

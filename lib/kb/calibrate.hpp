@@ -30,9 +30,9 @@ double calibrate_delta(Segments policy, std::size_t neighbours = kDefaultNeighbo
 /// row with it (|i - j| >= width). A window with fewer candidates than
 /// `neighbours` uses all it has.
 struct WindowDeltas {
-    std::size_t windows = 0;          ///< steps - width + 1
-    double excluding_overlap = 0.0;   ///< candidates: windows sharing no row with it
-    double including_overlap = 0.0;   ///< candidates: every other window
+    std::size_t windows = 0;         ///< steps - width + 1
+    double excluding_overlap = 0.0;  ///< candidates: windows sharing no row with it
+    double including_overlap = 0.0;  ///< candidates: every other window
 };
 
 /// The windows reading of the rule on a behaviour matrix (row-major, one row a
@@ -40,8 +40,8 @@ struct WindowDeltas {
 /// if channels, width or neighbours is 0, behaviour.size() is not a multiple of
 /// channels, a value is not finite, or there are fewer than 3 x width - 1
 /// steps (some window would have no candidate sharing no row with it).
-WindowDeltas calibrate_delta_windows(std::span<const float> behaviour, std::size_t channels, std::size_t width,
-                                     std::size_t neighbours = kDefaultNeighbours);
+WindowDeltas calibrate_delta_windows(std::span<const float> behaviour, std::size_t channels,
+                                     std::size_t width, std::size_t neighbours = kDefaultNeighbours);
 
 /// KB size obtained with one delta.
 struct DeltaSize {

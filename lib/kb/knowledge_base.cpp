@@ -263,7 +263,8 @@ ObserveResult KnowledgeBase::observe(Segments segments, double reward, Origin or
         if (near) {
             ++result.matched;
             if (once) {
-                if (near->id >= before || std::find(credited.begin(), credited.end(), near->id) != credited.end())
+                if (near->id >= before ||
+                    std::find(credited.begin(), credited.end(), near->id) != credited.end())
                     continue;
                 credited.push_back(near->id);
             }

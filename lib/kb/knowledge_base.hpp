@@ -29,7 +29,7 @@ enum class Match {
 /// What observe() credits when one policy's segments match a KB segment.
 enum class Counting {
     occurrence,  ///< every matching segment of the policy: reward and count once per match
-    policy,      ///< the policy once (the paper's footnote 1): reward and a count of 1, however often it matched
+    policy,  ///< the policy once (the paper's footnote 1): reward and a count of 1, however often it matched
 };
 
 /// "occurrence" or "policy".

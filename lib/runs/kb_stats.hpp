@@ -38,7 +38,7 @@ struct KbStats {
     double count_mean = 0.0, count_median = 0.0;
     std::size_t count_one = 0;  ///< segments seen once
     std::size_t zero_average = 0;  ///< segments whose average reward is exactly 0
-    std::string digest;  ///< content digest (db::kb_digest), filled by kb_file_stats
+    std::string digest;            ///< content digest (db::kb_digest), filled by kb_file_stats
     std::vector<kb::Source> sources;
     double bytes_per_segment = 0.0;       ///< in memory (values, record, index)
     double file_bytes_per_segment = 0.0;  ///< of the file, 0 for an empty KB

@@ -1,13 +1,13 @@
-#include <catch2/catch.hpp>
+#include "kb/calibrate.hpp"
 
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <tuple>
 #include <vector>
 
 #include "core/error.hpp"
 #include "core/rng.hpp"
-#include "kb/calibrate.hpp"
 
 using namespace stepstone;
 using Catch::Matchers::Contains;
@@ -60,7 +60,8 @@ TEST_CASE("KB sizes for several deltas follow the observe rule", "[kb][calibrate
 namespace {
 
 // the windows of `width` rows at stride 1 of a (steps x channels) behaviour, materialised
-std::vector<float> materialise_windows(const std::vector<float>& behaviour, std::size_t channels, std::size_t width) {
+std::vector<float> materialise_windows(const std::vector<float>& behaviour, std::size_t channels,
+                                       std::size_t width) {
     const std::size_t steps = behaviour.size() / channels;
     std::vector<float> out;
     for (std::size_t i = 0; i + width <= steps; ++i)
@@ -102,7 +103,9 @@ TEST_CASE("the windows reading equals the rule applied to every window, with and
     // least a width apart is the excluding one
     Rng rng(7, 0, 0, Purpose::test);
     for (const auto& [steps, channels, width, k] :
-         {std::tuple<std::size_t, std::size_t, std::size_t, std::size_t>{90, 3, 5, 4}, {61, 2, 7, 20}, {40, 15, 3, 1}}) {
+         {std::tuple<std::size_t, std::size_t, std::size_t, std::size_t>{90, 3, 5, 4},
+          {61, 2, 7, 20},
+          {40, 15, 3, 1}}) {
         CAPTURE(steps, channels, width, k);
         std::vector<float> behaviour(steps * channels);
         for (float& v : behaviour) v = rng.below(3) == 0 ? 1.0f : static_cast<float>(rng.uniform());
@@ -110,7 +113,8 @@ TEST_CASE("the windows reading equals the rule applied to every window, with and
         const std::size_t dim = width * channels;
         const auto got = kb::calibrate_delta_windows(behaviour, channels, width, k);
         CHECK(got.windows == steps - width + 1);
-        CHECK(got.including_overlap == Approx(kb::calibrate_delta(kb::Segments{windows, dim}, k)).epsilon(1e-9));
+        CHECK(got.including_overlap ==
+              Approx(kb::calibrate_delta(kb::Segments{windows, dim}, k)).epsilon(1e-9));
         CHECK(got.excluding_overlap == Approx(brute_excluding(windows, dim, width, k)).epsilon(1e-9));
         // every window's candidates without overlaps are a subset of those with them
         CHECK(got.including_overlap <= got.excluding_overlap);

@@ -2,7 +2,6 @@
 // policy (the paper's footnote 1: each KB segment once per policy).
 
 #include <catch2/catch.hpp>
-
 #include <cmath>
 #include <vector>
 
@@ -66,8 +65,9 @@ TEST_CASE("counting by policy equals the footnote's oracle on random and cluster
         kboracle::OracleKb oracle{dim, delta, {}, {}, {}};
         const std::uint32_t src = kb.add_source("run");
         for (std::size_t p = 0; p * per_policy * dim < data.size(); ++p) {
-            const std::vector<float> segs(data.begin() + static_cast<std::ptrdiff_t>(p * per_policy * dim),
-                                          data.begin() + static_cast<std::ptrdiff_t>((p + 1) * per_policy * dim));
+            const std::vector<float> segs(
+                data.begin() + static_cast<std::ptrdiff_t>(p * per_policy * dim),
+                data.begin() + static_cast<std::ptrdiff_t>((p + 1) * per_policy * dim));
             const double reward = static_cast<double>(rng.below(5)) / 4.0;
             kb.observe(kb::Segments{segs, dim}, reward, {src, static_cast<std::int64_t>(p)});
             oracle.observe_per_policy(segs, reward);

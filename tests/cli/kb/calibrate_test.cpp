@@ -90,8 +90,8 @@ TEST_CASE("kb calibrate --reading windows gives both window variants beside the 
     test::TempDir dir;
     kbtest::make_run(dir / "run.db");
     const auto run = dir / "run.db";
-    const auto result =
-        test::run_cli({"kb", "calibrate", run.string(), "--reading", "windows", "--deltas", "none", "--json"});
+    const auto result = test::run_cli(
+        {"kb", "calibrate", run.string(), "--reading", "windows", "--deltas", "none", "--json"});
     REQUIRE(result.exit_code == 0);
     const auto out = nlohmann::json::parse(result.out);
     const auto behaviour = runs::replay_behaviour(run, "best");
@@ -107,7 +107,8 @@ TEST_CASE("kb calibrate --reading windows gives both window variants beside the 
     const auto plain = test::run_cli({"kb", "calibrate", run.string(), "--deltas", "none", "--json"});
     CHECK(nlohmann::json::parse(plain.out)["reading"] == "segments");
     CHECK_FALSE(nlohmann::json::parse(plain.out).contains("windows"));
-    const auto text = test::run_cli({"kb", "calibrate", run.string(), "--reading", "windows", "--deltas", "none"});
+    const auto text =
+        test::run_cli({"kb", "calibrate", run.string(), "--reading", "windows", "--deltas", "none"});
     CHECK_THAT(text.out, Contains("share no step with it") && Contains("overlapping windows included"));
     const auto bad = test::run_cli({"kb", "calibrate", run.string(), "--reading", "strides"});
     CHECK(bad.exit_code != 0);
