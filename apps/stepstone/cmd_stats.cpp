@@ -22,6 +22,7 @@ struct StatsFlags {
     std::string tests_csv;
     std::string events_csv;
     std::string logrank_csv;
+    std::string hazard_csv;
     std::string event = "pickup";
     bool force = false;
     bool available = false;
@@ -30,9 +31,10 @@ struct StatsFlags {
 
 void add_stats_command(CLI::App& app) {
     auto flags = std::make_shared<StatsFlags>();
-    auto* cmd = app.add_subcommand("stats",
-                                   "Success counts, best rewards, Mann-Whitney U tests and times to each "
-                                   "milestone (Kaplan-Meier, log-rank) of a campaign");
+    auto* cmd =
+        app.add_subcommand("stats",
+                           "Success counts, best rewards, Mann-Whitney U tests and times to each "
+                           "milestone (Kaplan-Meier, log-rank, Cox hazard ratio, RMST) of a campaign");
     cmd->add_option("dir", flags->dir, "Campaign directory (holds campaign.db)")->required();
     cmd->add_option("--generation", flags->generation, "Generation to compare at (default: the target budget)");
     cmd->add_option("--threshold", flags->threshold, "Success: best-of-run reward >= this (default 0.5)");
@@ -52,6 +54,11 @@ void add_stats_command(CLI::App& app) {
         "--logrank-csv", flags->logrank_csv,
         "Write the log-rank tests of every milestone: treatment_a,treatment_b,event,n_a,n_b,events_a,"
         "events_b,chi2,p,p_holm");
+    cmd->add_option(
+        "--hazard-csv", flags->hazard_csv,
+        "Write the Cox hazard ratio (Efron ties, 95% Wald CI) and restricted mean times of every log-rank "
+        "pair: treatment_a,treatment_b,event,n_a,n_b,events_a,events_b,hazard_ratio,ci_low,ci_high,log_hr,"
+        "se,p_wald,score_chi2,p_score,ties,rmst_a,rmst_b,rmst_difference,horizon,note (docs/statistics.md)");
     auto* event_option = cmd->add_option(
         "--event", flags->event,
         "Milestone of the time-to-event table: press, pickup, release or ball (default pickup)");
@@ -63,15 +70,16 @@ void add_stats_command(CLI::App& app) {
         example({"stepstone stats camp", "stepstone stats camp --generation 10 --threshold 0.25",
                  "stepstone stats camp --available --generation 300",
                  "stepstone stats camp --runs-csv runs.csv --tests-csv tests.csv",
-                 "stepstone stats camp --event ball --events-csv events.csv --logrank-csv logrank.csv"}));
+                 "stepstone stats camp --event ball --events-csv events.csv --logrank-csv logrank.csv",
+                 "stepstone stats camp --event release --hazard-csv hazard.csv"}));
     cmd->callback([flags, event_option] {
         if (!(flags->threshold >= 0.0 && flags->threshold <= 1.0)) {
             throw ConfigError(concat("--threshold must be within [0, 1], got ", flags->threshold));
         }
         const runs::Milestone event = runs::parse_milestone(flags->event, "--event");
         // every output is checked before anything is computed or printed
-        for (const auto* path :
-             {&flags->csv, &flags->runs_csv, &flags->tests_csv, &flags->events_csv, &flags->logrank_csv}) {
+        for (const auto* path : {&flags->csv, &flags->runs_csv, &flags->tests_csv, &flags->events_csv,
+                                 &flags->logrank_csv, &flags->hazard_csv}) {
             if (!path->empty()) check_output_target(*path, flags->force);
         }
         std::optional<int> generation;
@@ -79,8 +87,8 @@ void add_stats_command(CLI::App& app) {
         const auto stats = runs::campaign_stats(flags->dir, generation, flags->threshold, flags->available,
                                                 flags->signal_window);
         // time-to-event outputs asked of runs without milestones: refused before anything is written
-        const bool events_asked =
-            !flags->events_csv.empty() || !flags->logrank_csv.empty() || event_option->count() > 0;
+        const bool events_asked = !flags->events_csv.empty() || !flags->logrank_csv.empty() ||
+                                  !flags->hazard_csv.empty() || event_option->count() > 0;
         if (events_asked) runs::require_events(stats);
         runs::write_text(std::cout, stats, event);
         write_output(flags->csv, flags->force,
@@ -93,6 +101,8 @@ void add_stats_command(CLI::App& app) {
                      [&](std::ostream& out) { runs::write_events_csv(out, stats); });
         write_output(flags->logrank_csv, flags->force,
                      [&](std::ostream& out) { runs::write_logrank_csv(out, stats); });
+        write_output(flags->hazard_csv, flags->force,
+                     [&](std::ostream& out) { runs::write_hazard_csv(out, stats); });
     });
 }
 

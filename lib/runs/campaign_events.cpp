@@ -50,7 +50,43 @@ std::string_view description(Milestone m) {
     return "";
 }
 
+// "34", or "34 (midpoint 29.5)" where R's survfit convention differs, "not reached"
+std::string median_text(const stats::KaplanMeier& curve) {
+    std::string text = curve.median ? concat(*curve.median) : "not reached";
+    if (curve.median_midpoint && curve.median_midpoint != curve.median)
+        text += concat(" (midpoint ", *curve.median_midpoint, ")");
+    return text;
+}
+
+// "0.851 [0.44, 1.65]", or why there is no estimate
+std::string hazard_text(const EventTest& t) {
+    if (!t.cox.estimate) return "not estimable: " + hazard_note(t);
+    char text[96];
+    std::snprintf(text, sizeof text, "%.3g [%.3g, %.3g]", t.cox.estimate->hr, t.cox.estimate->ci_low,
+                  t.cox.estimate->ci_high);
+    return text;
+}
+
 }  // namespace
+
+std::string hazard_note(const EventTest& test) {
+    const std::string a(to_string(test.a)), b(to_string(test.b));
+    switch (test.cox.status) {
+        case stats::CoxStatus::estimated:
+            return "";
+        case stats::CoxStatus::no_events:
+            return "no events in either arm";
+        case stats::CoxStatus::never_together:
+            return "no event time with both arms at risk";
+        case stats::CoxStatus::tends_to_zero:
+            return test.cox.events_a == 0 ? concat("no events in ", a, " (HR -> 0)")
+                                          : concat("no event of ", a, " while ", b, " at risk (HR -> 0)");
+        case stats::CoxStatus::tends_to_infinity:
+            return test.cox.events_b == 0 ? concat("no events in ", b, " (HR -> inf)")
+                                          : concat("no event of ", b, " while ", a, " at risk (HR -> inf)");
+    }
+    return "";
+}
 
 std::span<const Milestone> all_milestones() { return kAll; }
 
@@ -90,6 +126,7 @@ CampaignEvents campaign_events(std::span<const RunEvents> runs, std::span<const 
             summary.runs = samples.back().time.size();
             summary.curve = stats::kaplan_meier(samples.back());
             summary.reached = summary.curve.events;
+            summary.rmst = stats::restricted_mean(summary.curve, generation);
             events.summaries.push_back(summary);
         }
         std::vector<double> p;
@@ -103,6 +140,10 @@ CampaignEvents campaign_events(std::span<const RunEvents> runs, std::span<const 
                 test.n_a = samples[a].time.size();
                 test.n_b = samples[b].time.size();
                 test.test = stats::log_rank(samples[a], samples[b]);
+                test.cox = stats::cox_hazard_ratio(samples[a], samples[b], kHazardTies);
+                const std::size_t summaries = events.summaries.size() - treatments.size();
+                test.rmst_a = events.summaries[summaries + a].rmst;
+                test.rmst_b = events.summaries[summaries + b].rmst;
                 events.tests.push_back(test);
                 p.push_back(test.test.p);
             }
@@ -118,28 +159,33 @@ void write_events_text(std::ostream& out, const CampaignEvents& events, Mileston
     out << "\ntime to first " << to_string(milestone) << ": the first generation in which a policy "
         << description(milestone) << " (runs without one censored at generation " << events.generation
         << ")\n";
-    std::snprintf(line, sizeof line, "%-10s %5s %8s %14s\n", "treatment", "runs", "reached", "median (KM)");
+    const std::string rmst_header = concat("RMST 0-", events.generation);
+    std::snprintf(line, sizeof line, "%-10s %5s %8s %24s %12s\n", "treatment", "runs", "reached",
+                  "median (KM)", rmst_header.c_str());
     out << line;
     for (const auto& s : events.summaries) {
         if (s.milestone != milestone) continue;
-        const std::string median = s.curve.median ? concat(*s.curve.median) : "not reached";
-        std::snprintf(line, sizeof line, "%-10s %5zu %8zu %14s\n",
-                      std::string(to_string(s.treatment)).c_str(), s.runs, s.reached, median.c_str());
+        std::snprintf(line, sizeof line, "%-10s %5zu %8zu %24s %12.4g\n",
+                      std::string(to_string(s.treatment)).c_str(), s.runs, s.reached,
+                      median_text(s.curve).c_str(), s.rmst);
         out << line;
     }
     const auto pairs = std::count_if(events.tests.begin(), events.tests.end(),
                                      [&](const EventTest& t) { return t.milestone == milestone; });
     if (pairs == 0) return;
     out << "\nlog-rank, time to first " << to_string(milestone)
-        << " (p: chi-square with 1 df; p_holm: over the " << pairs << " pairs)\n";
-    std::snprintf(line, sizeof line, "%-10s %-10s %4s %4s %8s %8s %8s %10s %10s\n", "a", "b", "n_a", "n_b",
-                  "events_a", "events_b", "chi2", "p", "p_holm");
+        << " (p: chi-square with 1 df; p_holm: over the " << pairs << " pairs), RMST a-b (generations, up to "
+        << events.generation << ") and the Cox hazard ratio of a to b (" << to_string(kHazardTies)
+        << " ties, 95% Wald CI)\n";
+    std::snprintf(line, sizeof line, "%-10s %-10s %4s %4s %8s %8s %8s %10s %10s %9s  %s\n", "a", "b", "n_a",
+                  "n_b", "events_a", "events_b", "chi2", "p", "p_holm", "RMST a-b", "HR [95% CI]");
     out << line;
     for (const auto& t : events.tests) {
         if (t.milestone != milestone) continue;
-        std::snprintf(line, sizeof line, "%-10s %-10s %4zu %4zu %8zu %8zu %8.4g %10.4g %10.4g\n",
+        std::snprintf(line, sizeof line, "%-10s %-10s %4zu %4zu %8zu %8zu %8.4g %10.4g %10.4g %9.4g  %s\n",
                       std::string(to_string(t.a)).c_str(), std::string(to_string(t.b)).c_str(), t.n_a, t.n_b,
-                      t.test.events_a, t.test.events_b, t.test.chi2, t.test.p, t.p_holm);
+                      t.test.events_a, t.test.events_b, t.test.chi2, t.test.p, t.p_holm, t.rmst_a - t.rmst_b,
+                      hazard_text(t).c_str());
         out << line;
     }
 }
@@ -161,6 +207,24 @@ void write_logrank_csv(std::ostream& out, const CampaignEvents& events) {
         out << to_string(t.a) << "," << to_string(t.b) << "," << to_string(t.milestone) << "," << t.n_a << ","
             << t.n_b << "," << t.test.events_a << "," << t.test.events_b << "," << exact(t.test.chi2) << ","
             << exact(t.test.p) << "," << exact(t.p_holm) << "\n";
+    }
+}
+
+void write_hazard_csv(std::ostream& out, const CampaignEvents& events) {
+    out << "treatment_a,treatment_b,event,n_a,n_b,events_a,events_b,hazard_ratio,ci_low,ci_high,log_hr,se,"
+           "p_wald,score_chi2,p_score,ties,rmst_a,rmst_b,rmst_difference,horizon,note\n";
+    for (const auto& t : events.tests) {
+        out << to_string(t.a) << "," << to_string(t.b) << "," << to_string(t.milestone) << "," << t.n_a << ","
+            << t.n_b << "," << t.cox.events_a << "," << t.cox.events_b << ",";
+        if (const auto& e = t.cox.estimate) {
+            out << exact(e->hr) << "," << exact(e->ci_low) << "," << exact(e->ci_high) << ","
+                << exact(e->log_hr) << "," << exact(e->se) << "," << exact(e->p) << ",";
+        } else {
+            out << ",,,,,,";
+        }
+        out << exact(t.cox.score_chi2) << "," << exact(t.cox.score_p) << "," << to_string(t.cox.ties) << ","
+            << exact(t.rmst_a) << "," << exact(t.rmst_b) << "," << exact(t.rmst_a - t.rmst_b) << ","
+            << events.generation << "," << hazard_note(t) << "\n";
     }
 }
 

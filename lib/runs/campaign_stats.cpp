@@ -340,6 +340,11 @@ void write_logrank_csv(std::ostream& out, const CampaignStats& stats) {
     write_logrank_csv(out, *stats.events);
 }
 
+void write_hazard_csv(std::ostream& out, const CampaignStats& stats) {
+    require_events(stats);
+    write_hazard_csv(out, *stats.events);
+}
+
 void write_success_csv(std::ostream& out, const CampaignStats& stats) {
     out << "generation";
     for (const auto& t : stats.treatments) out << "," << to_string(t.treatment);

@@ -156,6 +156,9 @@ void require_events(const CampaignStats& stats);
 void write_events_csv(std::ostream& out, const CampaignStats& stats);
 /// The log-rank tests of every milestone; DataError as write_events_csv.
 void write_logrank_csv(std::ostream& out, const CampaignStats& stats);
+/// The hazard ratios and RMSTs of every milestone (write_hazard_csv of the
+/// events); DataError as write_events_csv.
+void write_hazard_csv(std::ostream& out, const CampaignStats& stats);
 /// One row per run: `treatment,seed,generation,best_reward,success,policies,
 /// ball_policies,mean_r_max` (mean_r_max empty without a KB).
 void write_runs_csv(std::ostream& out, const CampaignStats& stats);

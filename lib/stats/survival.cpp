@@ -9,9 +9,7 @@
 
 namespace stepstone::stats {
 
-namespace {
-
-void check(const char* function, const char* name, const Survival& s) {
+void check_survival(const char* function, const char* name, const Survival& s) {
     if (s.time.empty()) throw DataError(concat(function, ": sample ", name, " is empty"));
     if (s.time.size() != s.observed.size()) {
         throw DataError(concat(function, ": sample ", name, " has ", s.time.size(), " times and ",
@@ -26,6 +24,8 @@ void check(const char* function, const char* name, const Survival& s) {
         }
     }
 }
+
+namespace {
 
 // indices of the sample sorted by time
 std::vector<std::size_t> by_time(const Survival& s) {
@@ -55,12 +55,13 @@ std::size_t KaplanMeier::at_risk(double t) const {
 }
 
 KaplanMeier kaplan_meier(const Survival& sample) {
-    check("kaplan_meier", "", sample);
+    check_survival("kaplan_meier", "", sample);
     KaplanMeier km;
     km.n = sample.time.size();
     const auto order = by_time(sample);
     std::size_t at_risk = km.n;
     double survival = 1.0;
+    bool plateau = false;  // S is 0.5 (within rounding) since the midpoint median's first time
     for (std::size_t k = 0; k < order.size();) {
         KaplanMeierStep step;
         step.time = sample.time[order[k]];
@@ -74,11 +75,36 @@ KaplanMeier kaplan_meier(const Survival& sample) {
         step.survival = survival;
         // strictly below one half in exact arithmetic: an estimate that is 0.5 up to rounding is not below it
         if (!km.median && step.events > 0 && survival < 0.5 - 1e-12) km.median = step.time;
+        // R's survfit: the first time S <= 0.5; on a plateau at 0.5, the midpoint to the next drop
+        if (!km.median_midpoint && step.events > 0 && survival < 0.5 + 1e-12) {
+            km.median_midpoint = step.time;
+            plateau = survival > 0.5 - 1e-12;
+        } else if (plateau && step.events > 0) {
+            km.median_midpoint = (*km.median_midpoint + step.time) / 2.0;
+            plateau = false;
+        }
         km.events += step.events;
         at_risk -= step.events + step.censored;
         km.steps.push_back(step);
     }
     return km;
+}
+
+double restricted_mean(const KaplanMeier& km, double horizon) {
+    if (!(std::isfinite(horizon) && horizon >= 0)) {
+        throw DataError(concat("restricted_mean: the horizon must be finite and >= 0, got ", horizon));
+    }
+    // S is a right-continuous step function: s on [from, next step), the steps at or before 0 give S(0)
+    double area = 0, from = 0, s = 1.0;
+    for (const auto& step : km.steps) {
+        if (step.time > horizon) break;
+        if (step.time > from) {
+            area += s * (step.time - from);
+            from = step.time;
+        }
+        s = step.survival;
+    }
+    return area + s * (horizon - from);
 }
 
 double chi2_1_sf(double x) {
@@ -87,8 +113,8 @@ double chi2_1_sf(double x) {
 }
 
 LogRank log_rank(const Survival& a, const Survival& b) {
-    check("log_rank", "a", a);
-    check("log_rank", "b", b);
+    check_survival("log_rank", "a", a);
+    check_survival("log_rank", "b", b);
     // pooled times, each with its sample; walk the distinct times in order
     struct Entry {
         double time;

@@ -33,10 +33,18 @@ struct KaplanMeier {
     /// One step per distinct time (events or censoring), ascending. Subjects
     /// censored at an event time are at risk at that time (the usual convention).
     std::vector<KaplanMeierStep> steps;
-    /// Median time to event: the first event time at which the estimate falls
-    /// strictly below 0.5 (statsmodels' SurvfuncRight.quantile(0.5) and SAS);
-    /// absent ("not reached") when it never does.
+    /// Median time to event, strict convention: the first event time at which
+    /// the estimate falls strictly below 0.5 (statsmodels'
+    /// SurvfuncRight.quantile(0.5)); absent ("not reached") when it never does.
     std::optional<double> median;
+    /// Median time to event, midpoint convention (R's survfit and SAS's
+    /// LIFETEST): the first event time t_i with S(t_i) <= 0.5, except where S
+    /// sits at exactly 0.5 from t_i until the next event time t_j, which gives
+    /// (t_i + t_j) / 2. When S stays at 0.5 to the end of the curve, survfit
+    /// gives t_i, and so does this. Differs from `median` only on such a
+    /// plateau; absent when S never reaches 0.5. ("Exactly" is within 1e-12,
+    /// as products like 3/4 * 2/3 are 0.5 only up to rounding.)
+    std::optional<double> median_midpoint;
 
     /// The estimate S(t): the survival after the last step at or before t (1 before the first).
     double at(double t) const;
@@ -48,6 +56,18 @@ struct KaplanMeier {
 /// of (1 - d_i / n_i). Throws DataError when the sample is empty, the vectors
 /// differ in size, a time is not finite or an observed flag is not 0 or 1.
 KaplanMeier kaplan_meier(const Survival& sample);
+
+/// The restricted mean time to event up to `horizon` (RMST): the area under
+/// the Kaplan-Meier curve from 0 to `horizon`, the integral of the step
+/// function S(t) as `KaplanMeier::at` gives it. With every subject followed up
+/// to `horizon` or to its event, it is the mean of min(time, horizon). Throws
+/// DataError for a negative or non-finite horizon.
+double restricted_mean(const KaplanMeier& km, double horizon);
+
+/// Throws DataError naming `function` and the sample `name` when `sample` is
+/// empty, its vectors differ in size, a time is not finite or an observed flag
+/// is not 0 or 1 (the checks of kaplan_meier and log_rank).
+void check_survival(const char* function, const char* name, const Survival& sample);
 
 /// The result of a two-sample log-rank test.
 struct LogRank {

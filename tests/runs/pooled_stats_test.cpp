@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <catch2/catch.hpp>
+#include <cmath>
 #include <sstream>
 
 #include "runs/events_campaign.hpp"
@@ -120,16 +121,36 @@ TEST_CASE("two hand-written runs CSVs and events CSVs pool to the counts and suc
     CHECK(pickup_sum.reached == 1);
     CHECK(pooled.events.summaries[0].reached == 2);  // both none runs pressed
     CHECK(pooled.events.summaries[1].reached == 1);  // sum seed 2 never did
+
+    // the pickup's Cox model: sum's event at 3 with 2 + 2 runs at risk, none's at 7 with 2 none and 1 sum;
+    // with w the HR of none to sum, the score 1 - w/(w+1) - 2w/(2w+1) is 0 where 2w^2 = 1, w = 1/sqrt 2,
+    // where the shares w/(w+1) = sqrt 2 - 1 and 2w/(2w+1) = 2 - sqrt 2 give the information
+    // 2 (sqrt 2 - 1)(2 - sqrt 2) = 6 sqrt 2 - 8
+    const auto& pickup = pooled.events.tests[1];
+    REQUIRE(pickup.milestone == runs::Milestone::pickup);
+    REQUIRE(pickup.cox.estimate);
+    CHECK(pickup.cox.estimate->hr == Approx(1 / std::sqrt(2.0)).epsilon(1e-12));
+    CHECK(pickup.cox.estimate->se == Approx(1 / std::sqrt(6 * std::sqrt(2.0) - 8)).epsilon(1e-10));
+    // RMST up to 10: none 7 + 3 / 2, sum 3 + 7 / 2; both curves end at 1/2: no strict median, survfit's
+    // is the time S reached 1/2
+    CHECK(pickup.rmst_a == Approx(8.5));
+    CHECK(pickup.rmst_b == Approx(6.5));
+    std::ostringstream text;
+    runs::write_pooled_text(text, pooled, runs::Milestone::pickup);
+    CHECK_THAT(text.str(),
+               Contains("none           2        1 not reached (midpoint 7)          8.5\n") &&
+                   Contains("sum            2        1 not reached (midpoint 3)          6.5\n") &&
+                   Contains("         2  0.707 ["));
 }
 
 TEST_CASE("pool: a campaign's CSVs split in two overlapping halves pool back to the whole campaign's tests",
           "[runs][pool][cli]") {
     runstest::EventsCampaign c;
     const std::filesystem::path d = c.dir.path();
-    const auto whole =
-        test::run_cli({"stats", c.camp.string(), "--runs-csv", (d / "runs.csv").string(), "--events-csv",
-                       (d / "events.csv").string(), "--tests-csv", (d / "tests.csv").string(),
-                       "--logrank-csv", (d / "logrank.csv").string()});
+    const auto whole = test::run_cli(
+        {"stats", c.camp.string(), "--runs-csv", (d / "runs.csv").string(), "--events-csv",
+         (d / "events.csv").string(), "--tests-csv", (d / "tests.csv").string(), "--logrank-csv",
+         (d / "logrank.csv").string(), "--hazard-csv", (d / "hazard.csv").string()});
     REQUIRE(whole.exit_code == 0);
     const std::string runs = test::read_file(d / "runs.csv"), events = test::read_file(d / "events.csv");
     // machine A finished seeds 1 and 2, machine B seeds 2 and 3: seed 2 is in both, identical
@@ -145,7 +166,7 @@ TEST_CASE("pool: a campaign's CSVs split in two overlapping halves pool back to 
                                              (d / "a_events.csv").string(),
                                              (d / "b_events.csv").string()};
     auto args = inputs;
-    for (const char* out : {"runs", "events", "tests", "logrank"}) {
+    for (const char* out : {"runs", "events", "tests", "logrank", "hazard"}) {
         args.push_back(std::string("--") + out + "-csv");
         args.push_back((d / (std::string("p_") + out + ".csv")).string());
     }
@@ -155,7 +176,7 @@ TEST_CASE("pool: a campaign's CSVs split in two overlapping halves pool back to 
     REQUIRE(pooled.exit_code == 0);
     // the oracle: stepstone stats of the whole campaign, byte for byte (the tests it makes are checked by
     // hand and by statsmodels above)
-    for (const char* out : {"runs", "events", "tests", "logrank"}) {
+    for (const char* out : {"runs", "events", "tests", "logrank", "hazard"}) {
         INFO(out);
         CHECK(test::read_file(d / (std::string("p_") + out + ".csv")) ==
               test::read_file(d / (std::string(out) + ".csv")));
@@ -163,8 +184,8 @@ TEST_CASE("pool: a campaign's CSVs split in two overlapping halves pool back to 
     CHECK_THAT(pooled.out,
                Contains("pooled: 6 runs at generation 4") &&
                    Contains("2 runs found in more than one input, identical in each: none/2 sum/2"));
-    CHECK_THAT(pooled.out, Contains("none           3        1    not reached\n") &&
-                               Contains("sum            3        3              1\n"));
+    CHECK_THAT(pooled.out, Contains("none           3        1              not reached        3.667\n") &&
+                               Contains("sum            3        3                        1        1.667\n"));
     CHECK(test::read_file(d / "km.png").rfind("\x89PNG", 0) == 0);
 
     // outputs exist: refused without --force, nothing replaced
@@ -172,6 +193,20 @@ TEST_CASE("pool: a campaign's CSVs split in two overlapping halves pool back to 
     CHECK(again.exit_code != 0);
     CHECK(again.err_lines().size() == 1);
     CHECK(test::read_file(d / "p_runs.csv") == runs);
+    // the hazard CSV alone, existing: the same one-line refusal; with --force it is replaced
+    const std::vector<std::string> hazard_only = {inputs[0], inputs[1],      inputs[2],
+                                                  inputs[3], inputs[4],      inputs[5],
+                                                  inputs[6], "--hazard-csv", (d / "p_hazard.csv").string()};
+    test::write_file(d / "p_hazard.csv", "old\n");
+    const auto refused = test::run_cli(hazard_only);
+    CHECK(refused.exit_code != 0);
+    CHECK(refused.err_lines().size() == 1);
+    CHECK_THAT(refused.err, Contains("p_hazard.csv"));
+    CHECK(test::read_file(d / "p_hazard.csv") == "old\n");
+    auto forced = hazard_only;
+    forced.push_back("--force");
+    REQUIRE(test::run_cli(forced).exit_code == 0);
+    CHECK(test::read_file(d / "p_hazard.csv") == test::read_file(d / "hazard.csv"));
 }
 
 TEST_CASE("pool refuses inputs that disagree, lack their events or mix generations, in one line",
