@@ -216,7 +216,9 @@ void bind_run(py::module_& m) {
         .def_property_readonly(
             "task", [](const PyRun& r) { return r.run.task; }, "'source' or 'target'")
         .def_property_readonly(
-            "treatment", [](const PyRun& r) { return r.run.treatment; }, "none, sum, mo, sum-rand or mo-rand")
+            "treatment", [](const PyRun& r) { return r.run.treatment; },
+            "none, sum, mo, sum-rand or mo-rand; for a seeded run its seeded twin: seed, seed-sum, seed-mo, "
+            "seed-sum-rand or seed-mo-rand")
         .def_property_readonly(
             "seed", [](const PyRun& r) { return r.run.seed; }, "the run seed")
         .def_property_readonly(
@@ -233,6 +235,15 @@ void bind_run(py::module_& m) {
         .def_property_readonly(
             "config", [](const PyRun& r) { return json_loads(r.run.config.dump()); },
             "the effective config as stored (a dict): task, dnn, ea, kb, transfer, seed")
+        .def_property_readonly(
+            "seeded_from",
+            [](const PyRun& r) -> py::object {
+                const auto& config = r.run.config;
+                if (!config.contains("transfer") || !config["transfer"].contains("seed")) return py::none();
+                return json_loads(config["transfer"]["seed"].dump());
+            },
+            "the seeding of generation 0 (config['transfer']['seed']: from, with, count and the source's "
+            "digest), None for a random generation 0")
         .def("generations", &generations,
              "One row per committed generation: generation, best/mean/median_reward, diversity_min/max, "
              "evaluations, wall_time and the time_* split (seconds).")

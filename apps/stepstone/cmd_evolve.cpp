@@ -45,9 +45,12 @@ void add_evolve_command(CLI::App& app) {
     auto flags = std::make_shared<EvolveFlags>();
     auto* cmd = app.add_subcommand("evolve", "Evolve neural-network policies with NSGA-II into a run database");
     add_evolve_flags(*cmd, *flags);
-    cmd->footer(example({"stepstone evolve --config examples/source_quick.json --db run.db --seed 1",
-                         "stepstone evolve --db run.db --resume --generations 40",
-                         "stepstone evolve --config examples/target_quick.json --db sum.db --kb kb.db --treatment sum"}));
+    cmd->footer(example(
+        {"stepstone evolve --config examples/source_quick.json --db run.db --seed 1",
+         "stepstone evolve --db run.db --resume --generations 40",
+         "stepstone evolve --config examples/target_quick.json --db sum.db --kb kb.db --treatment sum",
+         "stepstone evolve --config examples/target_quick.json --db seeded.db --seed-from source.db "
+         "--seed-with best --seed-count 16"}));
     cmd->callback([flags] { run_evolve_command(*flags); });
 }
 

@@ -22,6 +22,17 @@ std::uint64_t parse_seed(const std::string& text) {
     return value;
 }
 
+// a count as typed: digits only, from 1 to 10^9
+int parse_count(const std::string& text, const char* flag) {
+    int value = 0;
+    const auto parsed = std::from_chars(text.data(), text.data() + text.size(), value);
+    if (parsed.ec != std::errc() || parsed.ptr != text.data() + text.size() || value < 1 ||
+        value > 1000000000) {
+        throw ConfigError(concat(flag, " must be an integer from 1 to 1000000000, got ", text));
+    }
+    return value;
+}
+
 const CLI::Validator kNotEmpty(
     [](std::string& value) { return value.empty() ? std::string("an empty value") : std::string(); }, "",
     "not empty");
@@ -49,6 +60,17 @@ void add_evolve_flags(CLI::App& cmd, EvolveFlags& flags) {
     cmd.add_option(
         "--treatment", flags.treatment,
         "How the KB shapes the reward: none, sum, mo, sum-rand, mo-rand (overrides transfer.treatment)");
+    cmd.add_option("--seed-from", flags.seed_from,
+                   "A finished run file whose policies seed generation 0 (overrides transfer.seed.from)")
+        ->check(kNotEmpty);
+    cmd.add_option("--seed-with", flags.seed_with,
+                   "Which of its policies: population (default: its last population), front (its first "
+                   "front) or best (its best stored genomes) (overrides transfer.seed.with)")
+        ->check(CLI::IsMember({"population", "front", "best"}));
+    cmd.add_option("--seed-count", flags.seed_count,
+                   "At most this many seeds, the best by task reward first (default: the population size; "
+                   "overrides transfer.seed.count)")
+        ->check(kNotEmpty);
     cmd.add_flag("--resume", flags.resume, "Continue the run in --db from its last committed generation");
     cmd.add_flag("--allow-config-change", flags.allow_config_change,
                  "With --resume: accept a config that differs");
@@ -71,7 +93,11 @@ exp::EvolveOptions evolve_options(const EvolveFlags& flags) {
     if (flags.retain == "front") options.retain = runs::Retain::front;
     if (!flags.kb.empty()) options.kb = flags.kb;
     if (!flags.kb_name.empty()) options.kb_name = flags.kb_name;
-    if (!flags.treatment.empty()) options.treatment = runs::parse_treatment(flags.treatment, "--treatment");
+    if (!flags.treatment.empty())
+        options.treatment = runs::parse_shaping_treatment(flags.treatment, "--treatment");
+    if (!flags.seed_from.empty()) options.seed_from = flags.seed_from;
+    if (!flags.seed_with.empty()) options.seed_with = runs::parse_seed_with(flags.seed_with, "--seed-with");
+    if (!flags.seed_count.empty()) options.seed_count = parse_count(flags.seed_count, "--seed-count");
     options.threads = flags.threads;
     options.resume = flags.resume;
     options.allow_config_change = flags.allow_config_change;
@@ -102,6 +128,9 @@ std::vector<std::string> evolve_command_line(const exp::EvolveOptions& options) 
     if (options.kb) add("--kb", options.kb->string());
     if (options.kb_name) add("--kb-name", *options.kb_name);
     if (options.treatment) add("--treatment", std::string(runs::to_string(*options.treatment)));
+    if (options.seed_from) add("--seed-from", options.seed_from->string());
+    if (options.seed_with) add("--seed-with", std::string(runs::to_string(*options.seed_with)));
+    if (options.seed_count) add("--seed-count", std::to_string(*options.seed_count));
     if (options.resume) args.emplace_back("--resume");
     if (options.allow_config_change) args.emplace_back("--allow-config-change");
     if (options.force) args.emplace_back("--force");

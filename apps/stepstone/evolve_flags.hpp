@@ -24,6 +24,9 @@ struct EvolveFlags {
     std::string kb;
     std::string kb_name;
     std::string treatment;
+    std::string seed_from;
+    std::string seed_with;
+    std::string seed_count;
     bool resume = false;
     bool allow_config_change = false;
     bool force = false;

@@ -6,6 +6,7 @@
 #include <iostream>
 #include <numeric>
 
+#include "core/assert.hpp"
 #include "core/error.hpp"
 #include "core/rng.hpp"
 #include "core/text.hpp"
@@ -84,6 +85,10 @@ runs::GenerationWrite Evolution::initialise() {
     std::vector<nn::Genome> genomes;
     genomes.reserve(count);
     for (std::size_t k = 0; k < count; ++k) {
+        if (k < seeds_.size()) {
+            genomes.push_back(seeds_[k]);  // a source run's policy, as it was stored there
+            continue;
+        }
         Rng rng(seed_, 0, k, Purpose::initial_genome);
         genomes.push_back(nn::Genome::random_perceptron(config_.dnn, rng));
         genomes.back().simplify();
@@ -126,6 +131,11 @@ runs::GenerationWrite Evolution::epoch() {
         mixed.push_back(make_member(std::move(genomes[k]), evaluations[k], population_[parents[k]].id));
     }
     return select(std::move(mixed), first_new, started);
+}
+
+void Evolution::set_seeds(std::vector<nn::Genome> seeds) {
+    STEPSTONE_ASSERT(generation_ < 0 && seeds.size() <= static_cast<std::size_t>(config_.ea.population_size));
+    seeds_ = std::move(seeds);
 }
 
 Member Evolution::make_member(nn::Genome genome, const Evaluation& evaluation, std::optional<std::int64_t> parent) {
@@ -261,6 +271,10 @@ runs::GenerationWrite Evolution::select(std::vector<Member> mixed, std::size_t f
     }
     std::vector<std::size_t> stored(ranking.fronts.front().begin(), ranking.fronts.front().end());
     stored.push_back(best);
+    if (generation_ == 0) {
+        // a seeded run keeps the policies it started from
+        for (std::size_t k = 0; k < seeds_.size(); ++k) stored.push_back(k);
+    }
     if (config_.retain == runs::Retain::all) {
         for (std::size_t k = first_new; k < mixed.size(); ++k) stored.push_back(k);
     }

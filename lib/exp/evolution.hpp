@@ -71,9 +71,16 @@ class Evolution {
 public:
     Evolution(const runs::EvolveConfig& config, std::uint64_t seed, unsigned threads);
 
-    /// Generation 0: initial_multiplier x mu random perceptrons, evaluated
-    /// and cut to mu.
+    /// Generation 0: initial_multiplier x mu perceptrons, evaluated and cut
+    /// to mu by the same selection as every generation. Genome k is the seed
+    /// k when set_seeds gave one (kept as it is, its genome stored whatever
+    /// the retention), else random from the stream (seed, 0, k,
+    /// initial_genome), as in an unseeded run.
     runs::GenerationWrite initialise();
+    /// Seeds generation 0 (before initialise()): `seeds` (at most mu, their
+    /// networks of the config's inputs and outputs) take the places of the
+    /// first random genomes.
+    void set_seeds(std::vector<nn::Genome> seeds);
     /// One epoch: mating selection, mutation (+ simplify), evaluation of the
     /// children, diversity on parents + children, (mu + lambda) selection.
     runs::GenerationWrite epoch();
@@ -116,6 +123,7 @@ private:
     std::shared_ptr<const sim::Task> task_;
     evo::DiversityMatrix diversity_;
     std::vector<Member> population_;
+    std::vector<nn::Genome> seeds_;  // generation 0's first genomes, when seeded
     int generation_ = -1;
     std::int64_t next_id_ = 0;
     std::int64_t nan_outputs_ = 0;  // NaN outputs of the generation in progress
@@ -144,6 +152,9 @@ struct EvolveOptions {
     std::optional<runs::Treatment> treatment;     ///< overrides transfer.treatment
     std::optional<std::filesystem::path> kb;      ///< overrides transfer.kb (the shaping KB file)
     std::optional<std::string> kb_name;           ///< overrides transfer.kb_name
+    std::optional<std::filesystem::path> seed_from;  ///< overrides transfer.seed.from (the seed source run)
+    std::optional<runs::SeedWith> seed_with;         ///< overrides transfer.seed.with
+    std::optional<int> seed_count;                   ///< overrides transfer.seed.count
     unsigned threads = 0;  ///< 0 = every core
     /// Set on rank 0 of `evolve --mpi`: the ranks that evaluate each generation.
     MpiLeader* mpi = nullptr;

@@ -365,7 +365,8 @@ void serve_evolve(mpi::Session& session, unsigned threads) {
                                "machines of one kind, or give the run \"math\": \"portable\""));
         }
         std::optional<kb::KnowledgeBase> shaping;
-        if (config.transfer) shaping = load_shaping_kb(config);  // checked against rank 0's digest
+        if (config.transfer && !config.transfer->kb.empty())
+            shaping = load_shaping_kb(config);  // checked against rank 0's digest
         const auto task = sim::make_task(config.task);
         PairSetting pairs;
         std::vector<float> behaviours;

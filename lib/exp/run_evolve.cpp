@@ -17,15 +17,45 @@
 #include "db/kb_store.hpp"
 #include "exp/evolution.hpp"
 #include "exp/mpi_evolve.hpp"
+#include "exp/seeding.hpp"
 
 namespace stepstone::exp {
 
 namespace {
 
-// the config as compared on resume: the KB file may move, its digest may not
+// the config as compared on resume: the KB file and the seed source may move, their digests may not
 nlohmann::json comparable(nlohmann::json config) {
-    if (config.contains("transfer")) config["transfer"].erase("kb");
+    if (config.contains("transfer")) {
+        config["transfer"].erase("kb");
+        if (config["transfer"].contains("seed")) config["transfer"]["seed"].erase("from");
+    }
     return config;
+}
+
+// Applies the command line's seed flags: --seed-from gives (or replaces) the
+// seed source; --seed-with and --seed-count change a seed that the config, the
+// stored run or --seed-from gives.
+void apply_seed_options(runs::EvolveConfig& config, const EvolveOptions& options) {
+    if (options.seed_count && *options.seed_count <= 0) {
+        throw ConfigError(concat(option_name("seed_count"), " must be >= 1, got ", *options.seed_count));
+    }
+    if (options.seed_from) {
+        if (!config.transfer) config.transfer = runs::TransferConfig{};
+        auto& seed = config.transfer->seed;
+        if (!seed) {
+            seed = runs::SeedConfig{};
+            seed->count = config.ea.population_size;
+        }
+        seed->from = *options.seed_from;
+    }
+    if (!options.seed_with && !options.seed_count) return;
+    if (!config.seeding()) {
+        throw ConfigError(concat(option_name(options.seed_with ? "seed_with" : "seed_count"),
+                                 " needs a seed source (", option_name("seed_from"),
+                                 " or transfer.seed.from)"));
+    }
+    if (options.seed_with) config.transfer->seed->with = *options.seed_with;
+    if (options.seed_count) config.transfer->seed->count = *options.seed_count;
 }
 
 // Applies the command line's transfer flags; on resume, a run created with a
@@ -41,12 +71,15 @@ void apply_transfer_options(runs::EvolveConfig& config, const EvolveOptions& opt
     if (!config.transfer && stored && stored->config.contains("transfer")) {
         config.transfer = runs::EvolveConfig::from_json(stored->config, "the run's stored config").transfer;
     }
+    // after the stored block: a resume may move the seed source with --seed-from alone
+    apply_seed_options(config, options);
     if (!config.transfer) return;
     auto& transfer = *config.transfer;
-    if (transfer.treatment == runs::Treatment::none && transfer.kb.empty()) {
+    if (transfer.treatment == runs::Treatment::none && transfer.kb.empty() && !transfer.seed) {
         config.transfer.reset();
         return;
     }
+    if (transfer.treatment == runs::Treatment::none && transfer.kb.empty()) return;  // seeded, not shaped
     if (transfer.kb.empty()) {
         throw ConfigError(concat("treatment ", to_string(transfer.treatment), " needs a knowledge base (",
                                  option_name("kb"), " or transfer.kb)"));
@@ -136,6 +169,7 @@ struct RunStart {
     std::optional<runs::RunRecord> stored;
     runs::EvolveConfig config;
     std::optional<kb::KnowledgeBase> shaping;
+    std::optional<Seeds> seeds;  ///< generation 0's seeds, when it is still to run
 };
 
 RunStart load_run_start(const EvolveOptions& options) {
@@ -155,12 +189,24 @@ RunStart load_run_start(const EvolveOptions& options) {
     apply_transfer_options(config, options, start.stored ? &*start.stored : nullptr);
     if (config.transfer && start.stored && start.stored->config.contains("transfer") &&
         !options.allow_config_change) {
-        // resuming: the digest to check the KB against is the stored one
-        config.transfer->kb_digest = start.stored->config["transfer"].value("kb_digest", "");
+        // resuming: the digests to check the KB and the seed source against are the stored ones
+        const auto& stored = start.stored->config["transfer"];
+        config.transfer->kb_digest = stored.value("kb_digest", "");
+        if (config.transfer->seed) {
+            config.transfer->seed->digest =
+                stored.contains("seed") ? stored["seed"].value("digest", "") : std::string();
+        }
     }
     // messages name the KB as it was given; the stored config holds its absolute path (for resumes)
     const std::string kb_given = config.transfer ? config.transfer->kb.string() : std::string();
-    if (config.transfer) start.shaping = load_shaping_kb(config);
+    if (config.transfer && !config.transfer->kb.empty()) start.shaping = load_shaping_kb(config);
+    if (config.seeding()) {
+        // generation 0 alone reads the seeds: a resume past it only checks a source still there
+        if (start.stored && start.stored->generations_done >= 0)
+            check_seed_source(config);
+        else
+            start.seeds = load_seeds(config);
+    }
     if (start.shaping && needs_kb(config.treatment()) && !(start.shaping->max_average() > 0.0)) {
         std::cerr << "stepstone: warning: " << kb_given
                   << ": the knowledge base's largest average reward is 0, so r_max is 0 for every policy and "
@@ -179,7 +225,7 @@ db::Connection open_run_file(const EvolveOptions& options, RunStart& start) {
         if (!config.seed) config.seed = fresh_seed() >> 1;
         runs::RunRecord run;
         run.task = std::string(sim::to_string(config.task.kind));
-        run.treatment = std::string(to_string(config.treatment()));
+        run.treatment = std::string(to_string(config.run_treatment()));
         run.seed = static_cast<std::int64_t>(*config.seed);
         run.config = config.to_json();
         run.generations = config.ea.generations;
@@ -296,6 +342,7 @@ EvolveSummary run_evolve(const EvolveOptions& options) {
 
     Evolution evolution(start.config, static_cast<std::uint64_t>(run.seed), options.threads);
     restore_evolution(evolution, connection, run, start.config, start.shaping);
+    if (start.seeds && evolution.generation() < 0) evolution.set_seeds(std::move(start.seeds->genomes));
     std::unique_ptr<RemoteEvaluator> remote;
     if (options.mpi) {
         // every rank gets the effective config: the shaping KB by its absolute path and digest

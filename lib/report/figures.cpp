@@ -54,6 +54,17 @@ Colour treatment_colour(runs::Treatment treatment) {
             return kSkyBlue;
         case runs::Treatment::mo_rand:
             return kOrange;
+        // the seeded twins: the palette's other colours
+        case runs::Treatment::seed:
+            return kGreen;
+        case runs::Treatment::seed_sum:
+            return kPurple;
+        case runs::Treatment::seed_mo:
+            return kYellow;
+        case runs::Treatment::seed_sum_rand:
+            return kGrey;
+        case runs::Treatment::seed_mo_rand:
+            return kDoor;
     }
     return kGrey;
 }

@@ -74,6 +74,56 @@ nlohmann::json step_json(const RunStep& step) {
 
 std::string seed_file(std::uint64_t seed) { return concat("seed-", seed, ".db"); }
 
+// the seed block: {"from": "best"} or {"file": RUN.db}, with "with" and "count"
+CampaignSeed read_campaign_seed(JsonReader reader, const fs::path& base) {
+    CampaignSeed seed;
+    if (reader.has("file")) {
+        if (reader.has("from")) throw ConfigError("seed.from and seed.file cannot both be given");
+        reader.read("file", seed.file_given);
+        if (seed.file_given.empty()) throw ConfigError("seed.file must name a run file");
+        seed.from_file = true;
+        seed.file = fs::absolute(base / seed.file_given).lexically_normal();
+    } else {
+        std::string from = "best";
+        reader.read_choice("from", from, {"best"});
+    }
+    std::string with(to_string(seed.with));
+    reader.read_choice("with", with, {"population", "front", "best"});
+    seed.with = parse_seed_with(with, reader.path_of("with"));
+    if (reader.has("count")) {
+        int count = 0;
+        reader.read("count", count, -1000000000, 1000000000);
+        if (count <= 0) throw ConfigError(concat(reader.path_of("count"), " must be >= 1, got ", count));
+        seed.count = count;
+    }
+    reader.finish();
+    return seed;
+}
+
+// the seeded treatments' source: a source step to take the best run of, or an existing file
+void check_seeding(CampaignConfig& config) {
+    if (!config.seeded()) return;
+    if (!config.seed) config.seed = CampaignSeed{};
+    const CampaignSeed& seed = *config.seed;
+    if (seed.from_file) {
+        if (!fs::exists(seed.file)) {
+            throw ConfigError(concat("seed.file: ", seed.file_given, " does not exist (looked for ",
+                                     seed.file.string(), ")"));
+        }
+        return;
+    }
+    if (!config.source) {
+        throw ConfigError(
+            "a seeded treatment needs a source step (seed.from best) or seed.file (the run that seeds)");
+    }
+    if (seed.with == SeedWith::population &&
+        config.source->config.ea.population_size != config.target.config.ea.population_size) {
+        throw ConfigError(concat("seed.with population needs one population size: source.config's is ",
+                                 config.source->config.ea.population_size, ", target.config's ",
+                                 config.target.config.ea.population_size, " (seed with front or best)"));
+    }
+}
+
 }  // namespace
 
 CampaignConfig CampaignConfig::from_json(const nlohmann::json& json, const std::string& source_name,
@@ -107,6 +157,7 @@ CampaignConfig CampaignConfig::from_json(const nlohmann::json& json, const std::
             }
             kb.finish();
         }
+        if (root.has("seed")) config.seed = read_campaign_seed(root.child("seed"), base);
         std::int64_t randomize_seed = 1;
         root.read("randomize_seed", randomize_seed, 0, kMaxSeed);
         config.randomize_seed = static_cast<std::uint64_t>(randomize_seed);
@@ -149,6 +200,7 @@ CampaignConfig CampaignConfig::from_json(const nlohmann::json& json, const std::
             throw ConfigError(concat("kb.file: ", config.kb_file_given, " does not exist (looked for ",
                                      config.kb_file.string(), ")"));
         }
+        check_seeding(config);
         return config;
     } catch (const ConfigError& e) {
         throw ConfigError(concat(source_name, ": ", e.what()));
@@ -175,6 +227,13 @@ nlohmann::json CampaignConfig::to_json() const {
     }
     if (kb_delta) json["kb"]["delta"] = *kb_delta;
     json["randomize_seed"] = randomize_seed;
+    if (seed) {
+        // as kb.file: the file as given, not this machine's folders
+        json["seed"] =
+            seed->from_file ? nlohmann::json{{"file", seed->file_given}} : nlohmann::json{{"from", "best"}};
+        json["seed"]["with"] = to_string(seed->with);
+        if (seed->count) json["seed"]["count"] = *seed->count;
+    }
     json["target"] = step_json(target);
     auto names = nlohmann::json::array();
     for (Treatment t : treatments) names.push_back(to_string(t));
@@ -188,6 +247,10 @@ bool CampaignConfig::needs_kb() const {
 
 bool CampaignConfig::needs_randomized_kb() const {
     return std::any_of(treatments.begin(), treatments.end(), runs::needs_randomized_kb);
+}
+
+bool CampaignConfig::seeded() const {
+    return std::any_of(treatments.begin(), treatments.end(), runs::is_seeded);
 }
 
 std::vector<PlannedRun> plan_runs(const CampaignConfig& config) {

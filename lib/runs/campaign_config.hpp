@@ -35,6 +35,15 @@ enum class KbFrom {
     file,   ///< a KB file given in the config (no source step)
 };
 
+/// Where the seeded treatments' seeds come from (the campaign's `seed` block).
+struct CampaignSeed {
+    bool from_file = false;      ///< false: the best source run (highest best reward, lowest seed on ties)
+    std::filesystem::path file;  ///< from_file: the source run file (absolute)
+    std::string file_given;      ///< file as the config gives it (relative to the config's folder)
+    SeedWith with = SeedWith::population;
+    std::optional<int> count;  ///< absent: each target run's population size
+};
+
 /// A campaign config (stepstone campaign CONFIG.json).
 struct CampaignConfig {
     std::optional<RunStep> source;
@@ -45,10 +54,13 @@ struct CampaignConfig {
     std::uint64_t randomize_seed = 1;  ///< seed of the randomized KB (sum-rand, mo-rand)
     RunStep target;
     std::vector<Treatment> treatments;  ///< in the order given; each at most once
+    /// Set when the config has a seed block or a seeded treatment (seed, seed-sum, ...).
+    std::optional<CampaignSeed> seed;
 
     /// Strict parse. Keys: source {config, seeds | runs [+ first_seed],
     /// generations}, kb {from: best | merge} or {file}, with an optional
-    /// delta (coarsen the KB to it), randomize_seed,
+    /// delta (coarsen the KB to it), randomize_seed, seed {from: best} or
+    /// {file}, with with and count (the seeded treatments' seeds),
     /// target {config, seeds | runs [+ first_seed], generations, treatments}.
     /// A step's `config` is a file name (relative to `base`) or an inline
     /// evolve config. Throws ConfigError naming `source_name` and the key.
@@ -62,6 +74,8 @@ struct CampaignConfig {
     bool needs_kb() const;
     /// True when a treatment needs the randomized KB.
     bool needs_randomized_kb() const;
+    /// True when a treatment is seeded.
+    bool seeded() const;
 };
 
 /// One planned run.

@@ -64,16 +64,37 @@ KbConfig read_kb(JsonReader reader) {
     return kb;
 }
 
+SeedConfig read_seed(JsonReader reader) {
+    SeedConfig seed;
+    std::string from;
+    reader.read("from", from);
+    if (from.empty()) throw ConfigError(concat(reader.path_of("from"), " is required (the source run file)"));
+    seed.from = from;
+    std::string with(to_string(seed.with));
+    reader.read_choice("with", with, {"population", "front", "best"});
+    seed.with = parse_seed_with(with, reader.path_of("with"));
+    if (reader.has("count")) {
+        seed.count = -1;
+        reader.read("count", seed.count, -1000000000, 1000000000);
+        if (seed.count <= 0)
+            throw ConfigError(concat(reader.path_of("count"), " must be >= 1, got ", seed.count));
+    }
+    reader.read("digest", seed.digest);
+    reader.finish();
+    return seed;
+}
+
 TransferConfig read_transfer(JsonReader reader) {
     TransferConfig transfer;
     std::string treatment = "none";
     reader.read("treatment", treatment);
-    transfer.treatment = parse_treatment(treatment, reader.path_of("treatment"));
+    transfer.treatment = parse_shaping_treatment(treatment, reader.path_of("treatment"));
     std::string kb;
     reader.read("kb", kb);
     transfer.kb = kb;
     reader.read("kb_name", transfer.kb_name);
     reader.read("kb_digest", transfer.kb_digest);
+    if (reader.has("seed")) transfer.seed = read_seed(reader.child("seed"));
     reader.finish();
     if (needs_kb(transfer.treatment) && transfer.kb.empty()) {
         throw ConfigError(concat(reader.path_of("kb"), " is required by treatment ", treatment));
@@ -82,6 +103,25 @@ TransferConfig read_transfer(JsonReader reader) {
 }
 
 }  // namespace
+
+std::string_view to_string(SeedWith with) {
+    switch (with) {
+        case SeedWith::population:
+            return "population";
+        case SeedWith::front:
+            return "front";
+        case SeedWith::best:
+            return "best";
+    }
+    return "population";
+}
+
+SeedWith parse_seed_with(const std::string& text, const std::string& what) {
+    for (SeedWith with : {SeedWith::population, SeedWith::front, SeedWith::best}) {
+        if (text == to_string(with)) return with;
+    }
+    throw ConfigError(concat(what, " must be one of population, front, best, got \"", text, "\""));
+}
 
 EvolveConfig EvolveConfig::from_json(const nlohmann::json& json, const std::string& source,
                                      const std::filesystem::path& folder) {
@@ -110,6 +150,10 @@ EvolveConfig EvolveConfig::from_json(const nlohmann::json& json, const std::stri
             }
         }
         if (root.has("transfer")) config.transfer = read_transfer(root.child("transfer"));
+        // no count: the whole population, as many as generation 0 keeps
+        if (config.transfer && config.transfer->seed && config.transfer->seed->count == 0) {
+            config.transfer->seed->count = config.ea.population_size;
+        }
         std::string retain = "front";
         root.read_choice("retain", retain, {"front", "all"});
         config.retain = retain == "all" ? Retain::all : Retain::front;
@@ -132,6 +176,9 @@ EvolveConfig EvolveConfig::load(const std::filesystem::path& path) {
     EvolveConfig config = from_json(json, path.string(), path.parent_path());
     if (config.transfer && !config.transfer->kb.empty() && config.transfer->kb.is_relative()) {
         config.transfer->kb = path.parent_path() / config.transfer->kb;
+    }
+    if (config.transfer && config.transfer->seed && config.transfer->seed->from.is_relative()) {
+        config.transfer->seed->from = path.parent_path() / config.transfer->seed->from;
     }
     return config;
 }
@@ -173,10 +220,19 @@ nlohmann::json EvolveConfig::to_json() const {
         if (kb->counting != "occurrence") json["kb"]["counting"] = kb->counting;
     }
     if (transfer) {
-        json["transfer"] = {{"treatment", to_string(transfer->treatment)},
-                            {"kb", transfer->kb.string()},
-                            {"kb_name", transfer->kb_name}};
+        json["transfer"] = {{"treatment", to_string(transfer->treatment)}};
+        // a seeded run without a KB names none; every other transfer block as before seeding existed
+        if (!transfer->kb.empty() || !transfer->seed) {
+            json["transfer"]["kb"] = transfer->kb.string();
+            json["transfer"]["kb_name"] = transfer->kb_name;
+        }
         if (!transfer->kb_digest.empty()) json["transfer"]["kb_digest"] = transfer->kb_digest;
+        if (transfer->seed) {
+            const SeedConfig& seeding = *transfer->seed;
+            json["transfer"]["seed"] = {
+                {"from", seeding.from.string()}, {"with", to_string(seeding.with)}, {"count", seeding.count}};
+            if (!seeding.digest.empty()) json["transfer"]["seed"]["digest"] = seeding.digest;
+        }
     }
     return json;
 }

@@ -39,15 +39,43 @@ struct KbConfig {
     std::string counting = "occurrence";  ///< observe's credit rule: occurrence | policy (kb::Counting)
 };
 
+/// Which policies of a source run seed a target run's generation 0
+/// (docs/transfer.md: seeding).
+enum class SeedWith {
+    population,  ///< the latest checkpoint's population (the parents a resume would start from)
+    front,       ///< its first front (non-dominated under the objectives stored with them)
+    best,        ///< the stored genomes with the highest task reward
+};
+
+/// "population", "front" or "best".
+std::string_view to_string(SeedWith with);
+/// Parses a SeedWith name; throws ConfigError naming `what` and the accepted names otherwise.
+SeedWith parse_seed_with(const std::string& text, const std::string& what);
+
+/// A run's seeding: generation 0 starts from policies of a finished source
+/// run (transfer.seed).
+struct SeedConfig {
+    /// The source run file. In a config file a relative path is relative to
+    /// the config file's folder; on the command line, to the working directory.
+    std::filesystem::path from;
+    SeedWith with = SeedWith::population;
+    /// At most this many policies, the first by task reward (highest first,
+    /// lower source individual id on ties); 0 (absent): ea.population_size.
+    int count = 0;
+    std::string digest;  ///< the source run's db::run_digest, filled when the run starts and stored
+};
+
 /// The knowledge base that shapes a run's reward and how (the paper's
-/// treatments, section III.D).
+/// treatments, section III.D), and the source run that seeds it.
 struct TransferConfig {
+    /// The shaping: one of the paper's five (never a seeded name: the seed says that).
     Treatment treatment = Treatment::none;
     /// The KB file. In a config file a relative path is relative to the
     /// config file's folder; on the command line, to the working directory.
     std::filesystem::path kb;
     std::string kb_name;    ///< the KB in that file; empty: the file's only one
     std::string kb_digest;  ///< content digest of the KB used, filled when the run starts and stored
+    std::optional<SeedConfig> seed;  ///< absent: generation 0 is random
 };
 
 /// Which genomes a run stores for replay.
@@ -66,8 +94,13 @@ struct EvolveConfig {
     std::optional<KbConfig> kb;              ///< absent: the run builds no knowledge base
     std::optional<TransferConfig> transfer;  ///< absent: no shaping (treatment none)
 
-    /// The run's treatment (none without a transfer block).
+    /// The run's shaping treatment (none without a transfer block).
     Treatment treatment() const { return transfer ? transfer->treatment : Treatment::none; }
+    /// The run's seeding, null when generation 0 is random.
+    const SeedConfig* seeding() const { return transfer && transfer->seed ? &*transfer->seed : nullptr; }
+    /// The treatment a run file records (`run.treatment`): the shaping
+    /// treatment, or its seeded twin (seed-sum, ...) when the run is seeded.
+    Treatment run_treatment() const { return seeding() ? seeded(treatment()) : treatment(); }
     /// The sine, cosine and power of the run (the JSON's "math", default "libm"):
     /// the task's and the mutation's, kept equal.
     Math math() const { return task.math; }
@@ -81,13 +114,13 @@ struct EvolveConfig {
     /// steps_per_start, starts, still_limit, grid_period}, ea {population_size,
     /// generations, initial_multiplier}, dnn {see nn::DnnConfig}, kb
     /// {segment_width, delta, period, match}, transfer {treatment, kb,
-    /// kb_name, kb_digest}, seed, retain.
+    /// kb_name, kb_digest, seed {from, with, count, digest}}, seed, retain.
     /// task.arena names an arena file (relative to `folder`, else to the working
     /// directory) or holds the arena itself (sim::ArenaSpec::from_json).
     static EvolveConfig from_json(const nlohmann::json& json, const std::string& source = "config",
                                   const std::filesystem::path& folder = {});
-    /// Reads and parses a config file; a relative transfer.kb or task.arena is
-    /// taken relative to the file's folder.
+    /// Reads and parses a config file; a relative transfer.kb,
+    /// transfer.seed.from or task.arena is taken relative to the file's folder.
     static EvolveConfig load(const std::filesystem::path& path);
 
     /// The effective config as stored with the run: every key with its value,

@@ -196,4 +196,26 @@ StoredGenome load_best_genome(db::Connection& connection, std::int64_t run_id) {
     return load_genome(connection, run_id, select.column_int(0));
 }
 
+std::vector<StoredGenome> load_best_genomes(db::Connection& connection, std::int64_t run_id,
+                                            std::int64_t count) {
+    auto select = connection.prepare(db::sql("run/select_best_genomes.sql"));
+    select.bind(":run_id", run_id).bind(":count", count);
+    std::vector<StoredGenome> genomes;
+    while (select.step()) {
+        StoredGenome stored;
+        stored.individual_id = select.column_int(0);
+        try {
+            stored.genome = nlohmann::json::parse(select.column_text(1));
+        } catch (const nlohmann::json::exception&) {
+            throw DatabaseError(
+                concat(connection.name(), ": genome of individual ", stored.individual_id, " is unreadable"));
+        }
+        stored.reward = select.column_double(2);
+        stored.balls = static_cast<int>(select.column_int(3));
+        stored.generation = static_cast<int>(select.column_int(4));
+        genomes.push_back(std::move(stored));
+    }
+    return genomes;
+}
+
 }  // namespace stepstone::runs

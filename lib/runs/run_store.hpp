@@ -113,5 +113,9 @@ StoredGenome load_genome(db::Connection& connection, std::int64_t run_id, std::i
 std::vector<std::int64_t> stored_individuals(db::Connection& connection, std::int64_t run_id);
 /// The stored genome with the highest task reward (lowest id on ties).
 StoredGenome load_best_genome(db::Connection& connection, std::int64_t run_id);
+/// The `count` stored genomes with the highest task reward, highest first
+/// (lowest id on ties); fewer when fewer are stored.
+std::vector<StoredGenome> load_best_genomes(db::Connection& connection, std::int64_t run_id,
+                                            std::int64_t count);
 
 }  // namespace stepstone::runs

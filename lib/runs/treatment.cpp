@@ -1,5 +1,6 @@
 #include "runs/treatment.hpp"
 
+#include <algorithm>
 #include <array>
 
 #include "core/assert.hpp"
@@ -12,6 +13,8 @@ namespace {
 
 constexpr std::array kTreatments = {Treatment::none, Treatment::sum, Treatment::mo, Treatment::sum_rand,
                                     Treatment::mo_rand};
+constexpr std::array kSeeded = {Treatment::seed, Treatment::seed_sum, Treatment::seed_mo,
+                                Treatment::seed_sum_rand, Treatment::seed_mo_rand};
 
 }  // namespace
 
@@ -27,6 +30,16 @@ std::string_view to_string(Treatment treatment) {
             return "sum-rand";
         case Treatment::mo_rand:
             return "mo-rand";
+        case Treatment::seed:
+            return "seed";
+        case Treatment::seed_sum:
+            return "seed-sum";
+        case Treatment::seed_mo:
+            return "seed-mo";
+        case Treatment::seed_sum_rand:
+            return "seed-sum-rand";
+        case Treatment::seed_mo_rand:
+            return "seed-mo-rand";
     }
     return "none";
 }
@@ -35,24 +48,66 @@ Treatment parse_treatment(const std::string& text, const std::string& what) {
     for (Treatment treatment : kTreatments) {
         if (text == to_string(treatment)) return treatment;
     }
+    for (Treatment treatment : kSeeded) {
+        if (text == to_string(treatment)) return treatment;
+    }
+    throw ConfigError(concat(what,
+                             " must be one of none, sum, mo, sum-rand, mo-rand, seed, seed-sum, seed-mo, "
+                             "seed-sum-rand, seed-mo-rand, got \"",
+                             text, "\""));
+}
+
+Treatment parse_shaping_treatment(const std::string& text, const std::string& what) {
+    for (Treatment treatment : kTreatments) {
+        if (text == to_string(treatment)) return treatment;
+    }
+    for (Treatment treatment : kSeeded) {
+        if (text == to_string(treatment)) {
+            throw ConfigError(concat(what, " must be one of none, sum, mo, sum-rand, mo-rand, got \"", text,
+                                     "\": a run is seeded by its seed source (", option_name("seed_from"),
+                                     " or transfer.seed) with treatment ", to_string(shaping_of(treatment))));
+        }
+    }
     throw ConfigError(concat(what, " must be one of none, sum, mo, sum-rand, mo-rand, got \"", text, "\""));
 }
 
 std::span<const Treatment> all_treatments() { return kTreatments; }
 
+bool is_seeded(Treatment treatment) {
+    return std::find(kSeeded.begin(), kSeeded.end(), treatment) != kSeeded.end();
+}
+
+Treatment shaping_of(Treatment treatment) {
+    for (std::size_t k = 0; k < kSeeded.size(); ++k) {
+        if (kSeeded[k] == treatment) return kTreatments[k];
+    }
+    return treatment;
+}
+
+Treatment seeded(Treatment treatment) {
+    const Treatment shaping = shaping_of(treatment);
+    for (std::size_t k = 0; k < kTreatments.size(); ++k) {
+        if (kTreatments[k] == shaping) return kSeeded[k];
+    }
+    return Treatment::seed;
+}
+
 bool adds_shaping(Treatment treatment) {
-    return treatment == Treatment::sum || treatment == Treatment::sum_rand;
+    const Treatment t = shaping_of(treatment);
+    return t == Treatment::sum || t == Treatment::sum_rand;
 }
 
 bool shaping_objective(Treatment treatment) {
-    return treatment == Treatment::mo || treatment == Treatment::mo_rand;
+    const Treatment t = shaping_of(treatment);
+    return t == Treatment::mo || t == Treatment::mo_rand;
 }
 
 bool needs_randomized_kb(Treatment treatment) {
-    return treatment == Treatment::sum_rand || treatment == Treatment::mo_rand;
+    const Treatment t = shaping_of(treatment);
+    return t == Treatment::sum_rand || t == Treatment::mo_rand;
 }
 
-bool needs_kb(Treatment treatment) { return treatment != Treatment::none; }
+bool needs_kb(Treatment treatment) { return shaping_of(treatment) != Treatment::none; }
 
 double sum_fitness(double reward, double r_max, double max_average, double ball_reward) {
     if (!(max_average > 0)) return reward;

@@ -8,29 +8,55 @@
 
 namespace stepstone::runs {
 
-/// How a run uses a knowledge base to shape its reward (the paper, section III.D).
+/// How a run transfers from the source task: how a knowledge base shapes its
+/// reward (the paper, section III.D), and whether its generation 0 is seeded
+/// with a source run's policies (docs/transfer.md: seeding). The five shaping
+/// treatments are the paper's; each has a seeded twin, named with "seed-"
+/// before it ("seed" alone for none), which a campaign lists as a treatment of
+/// its own and a seeded run records in its `run.treatment`. A run config says
+/// the same with transfer.treatment (the shaping) and transfer.seed.
 enum class Treatment {
-    none,      ///< objectives (reward, diversity); r_max only recorded when a KB is given
-    sum,       ///< objectives (reward + normalised r_max, diversity)
-    mo,        ///< objectives (reward, diversity, r_max)
-    sum_rand,  ///< `sum` with a randomized KB (a `kb randomize` output)
-    mo_rand,   ///< `mo` with a randomized KB
+    none,           ///< objectives (reward, diversity); r_max only recorded when a KB is given
+    sum,            ///< objectives (reward + normalised r_max, diversity)
+    mo,             ///< objectives (reward, diversity, r_max)
+    sum_rand,       ///< `sum` with a randomized KB (a `kb randomize` output)
+    mo_rand,        ///< `mo` with a randomized KB
+    seed,           ///< `none`, seeded
+    seed_sum,       ///< `sum`, seeded
+    seed_mo,        ///< `mo`, seeded
+    seed_sum_rand,  ///< `sum-rand`, seeded
+    seed_mo_rand,   ///< `mo-rand`, seeded
 };
 
-/// "none", "sum", "mo", "sum-rand" or "mo-rand".
+/// "none", "sum", "mo", "sum-rand", "mo-rand", "seed", "seed-sum", "seed-mo",
+/// "seed-sum-rand" or "seed-mo-rand".
 std::string_view to_string(Treatment treatment);
-/// Parses a treatment name; throws ConfigError naming `what` and the accepted names otherwise.
+/// Parses a treatment name, seeded ones included; throws ConfigError naming
+/// `what` and the accepted names otherwise.
 Treatment parse_treatment(const std::string& text, const std::string& what = "treatment");
-/// Every treatment, in the paper's order (none, sum, mo, sum-rand, mo-rand).
+/// Parses the name of a shaping treatment (none, sum, mo, sum-rand, mo-rand),
+/// as a run config's transfer.treatment and evolve's `treatment` take it; a
+/// seeded name is refused with a pointer to the run's seed settings.
+Treatment parse_shaping_treatment(const std::string& text, const std::string& what = "treatment");
+/// The paper's five treatments, in its order (none, sum, mo, sum-rand,
+/// mo-rand): a campaign's default.
 std::span<const Treatment> all_treatments();
 
-/// True for sum and sum-rand: r_max is added to the first objective.
+/// True for the seeded treatments (seed, seed-sum, ...).
+bool is_seeded(Treatment treatment);
+/// The shaping of `treatment`: itself for the paper's five, the unseeded twin
+/// of a seeded one (seed-sum gives sum, seed gives none).
+Treatment shaping_of(Treatment treatment);
+/// The seeded twin of `treatment`'s shaping (sum gives seed-sum, none gives seed).
+Treatment seeded(Treatment treatment);
+
+/// True for sum and sum-rand (and their seeded twins): r_max is added to the first objective.
 bool adds_shaping(Treatment treatment);
-/// True for mo and mo-rand: r_max is a third objective.
+/// True for mo and mo-rand (and their seeded twins): r_max is a third objective.
 bool shaping_objective(Treatment treatment);
-/// True for sum-rand and mo-rand: the KB must be a randomized one.
+/// True for sum-rand and mo-rand (and their seeded twins): the KB must be a randomized one.
 bool needs_randomized_kb(Treatment treatment);
-/// True for every treatment but none: a KB is required.
+/// True for every treatment but none and seed: a KB is required.
 bool needs_kb(Treatment treatment);
 
 /// The fraction of one ball's reward that the largest possible shaping term

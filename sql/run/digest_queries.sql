@@ -1,7 +1,8 @@
 -- The scientific content of a run file, hashed by `stepstone db digest`.
 -- One query per statement, each with a total order; no timings, dates or versions.
--- the shaping KB's file path is left out: its content digest (transfer.kb_digest) stays in
-SELECT task, treatment, seed, json_remove(config, '$.transfer.kb'), status, generations, generations_done, evaluations, nan_outputs
+-- the shaping KB's and the seed source's file paths are left out: their content digests
+-- (transfer.kb_digest, transfer.seed.digest) stay in
+SELECT task, treatment, seed, json_remove(config, '$.transfer.kb', '$.transfer.seed.from'), status, generations, generations_done, evaluations, nan_outputs
 FROM run ORDER BY id;
 SELECT run_id, generation, best_reward, mean_reward, median_reward, front_sizes, diversity_min,
        diversity_max, evaluations

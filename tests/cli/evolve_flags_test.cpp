@@ -36,6 +36,9 @@ void check_same(const exp::EvolveOptions& a, const exp::EvolveOptions& b) {
     CHECK(a.treatment == b.treatment);
     CHECK(a.kb == b.kb);
     CHECK(a.kb_name == b.kb_name);
+    CHECK(a.seed_from == b.seed_from);
+    CHECK(a.seed_with == b.seed_with);
+    CHECK(a.seed_count == b.seed_count);
     CHECK(a.threads == b.threads);
     CHECK(a.mpi == b.mpi);
     CHECK(a.stop_on_signals == b.stop_on_signals);
@@ -67,6 +70,27 @@ TEST_CASE("evolve's parser reads evolve_command_line back as the options it was 
                                                "--generations=40", "--threads=2", "--kb=camp/kb/kb-rand.db",
                                                "--treatment=sum-rand", "--resume", "--quiet"});
     }
+    SECTION("a campaign's seeded and shaped target run") {
+        exp::RunLaunch launch;
+        launch.config = "camp/config/target.json";
+        launch.db = "camp/target/seed-sum/seed-2.db";
+        launch.seed = 2;
+        launch.generations = 10;
+        launch.threads = 1;
+        launch.kb = "camp/kb/kb.db";
+        launch.treatment = runs::Treatment::sum;
+        launch.seed_from = "camp/source/seed-1.db";
+        launch.seed_with = runs::SeedWith::front;
+        launch.seed_count = 6;
+        const auto options = launch.evolve_options();
+        const auto args = app::evolve_command_line(options);
+        check_same(parse(args), options);
+        CHECK(args == std::vector<std::string>{"evolve", "--db=camp/target/seed-sum/seed-2.db",
+                                               "--config=camp/config/target.json", "--seed=2",
+                                               "--generations=10", "--threads=1", "--kb=camp/kb/kb.db",
+                                               "--treatment=sum", "--seed-from=camp/source/seed-1.db",
+                                               "--seed-with=front", "--seed-count=6", "--quiet"});
+    }
     SECTION("every option that has a flag, at values a parser could misread") {
         exp::EvolveOptions options;
         options.config_path = "-odd name=1.json";  // a dash first, a space and an equals sign
@@ -77,6 +101,9 @@ TEST_CASE("evolve's parser reads evolve_command_line back as the options it was 
         options.treatment = runs::Treatment::mo;
         options.kb = "kb dir/kb.db";
         options.kb_name = "seed-1";
+        options.seed_from = "-source run.db";
+        options.seed_with = runs::SeedWith::best;
+        options.seed_count = 1000000000;
         options.threads = 1024;
         options.allow_config_change = true;
         options.force = true;
@@ -91,6 +118,17 @@ TEST_CASE("evolve's parser reads evolve_command_line back as the options it was 
         check_same(parse(args), options);
         CHECK(args == std::vector<std::string>{"evolve", "--db=run.db", "--retain=front", "--resume"});
     }
+}
+
+TEST_CASE("evolve's seed flags refuse a count below 1, a seeded treatment name and an unknown with",
+          "[cli][seed][errors]") {
+    CHECK_THROWS_WITH(parse({"evolve", "--db=r.db", "--seed-from=s.db", "--seed-count=0"}),
+                      Catch::Matchers::Contains("--seed-count must be an integer from 1"));
+    CHECK_THROWS_WITH(parse({"evolve", "--db=r.db", "--seed-from=s.db", "--seed-count=-3"}),
+                      Catch::Matchers::Contains("got -3"));
+    CHECK_THROWS_WITH(parse({"evolve", "--db=r.db", "--treatment=seed-sum"}),
+                      Catch::Matchers::Contains("with treatment sum"));
+    CHECK_THROWS(parse({"evolve", "--db=r.db", "--seed-from=s.db", "--seed-with=all"}));
 }
 
 TEST_CASE("options that no evolve flag can carry have no command line", "[cli]") {

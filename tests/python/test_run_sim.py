@@ -146,6 +146,27 @@ class Runs(unittest.TestCase):
                                        "ON i.id = g.individual_id").fetchone()[0]
         self.assertEqual(self.stored.replay("best")["stored_reward"], best_reward)
 
+    def test_a_seeded_run_shows_its_source(self):
+        self.assertIsNone(self.stored.seeded_from)
+        with tempfile.TemporaryDirectory() as folder:
+            config = folder + "/t.json"
+            with open(config, "w") as out:
+                json.dump({"task": {"kind": "target", "steps_per_start": 200, "starts": 1},
+                           "ea": {"population_size": 8, "generations": 1}, "seed": 2}, out)
+            target = folder + "/seeded.db"
+            cli("evolve", "--config", config, "--db", target, "--seed-from", self.path, "--seed-with", "best",
+                "--seed-count", "3", "--quiet")
+            run = stepstone.Run(target)
+            self.assertEqual(run.treatment, "seed")
+            digest = cli("db", "digest", self.path).stdout.strip()
+            expected = {"from": os.path.abspath(self.path), "with": "best", "count": 3, "digest": digest}
+            self.assertEqual(run.seeded_from, expected)
+            self.assertEqual(run.config["transfer"]["seed"], expected)
+            # generation 0 starts with the source's best stored genome
+            best = self.sql.execute("SELECT g.individual_id FROM genome g JOIN individual i "
+                                    "ON i.id = g.individual_id ORDER BY i.reward DESC, i.id LIMIT 1").fetchone()[0]
+            self.assertEqual(run.genome(0), self.stored.genome(best))
+
     def test_errors_name_the_file(self):
         with tempfile.TemporaryDirectory() as folder:
             kb_file = folder + "/kb.db"

@@ -138,3 +138,65 @@ TEST_CASE("every example campaign parses, and the replication one and the quick 
     CHECK(quick.kb_file.extension() == ".gz");
     CHECK(std::filesystem::file_size(quick.kb_file) < (1u << 20));  // committed: under 1 MiB
 }
+
+TEST_CASE("campaign config: seeded treatments and the seed block", "[runs][campaign][config][seed]") {
+    test::TempDir dir;
+    const std::string source =
+        std::string(R"("source": {"config": {)") + kTask + R"(, "kb": {"segment_width": 20, "delta": 1.0}}})";
+    const auto make = [&](const std::string& extra, const std::string& treatments) {
+        return runs::CampaignConfig::from_json(parse("{" + source + extra + R"(, "target": {"config": {)" +
+                                                     kTask + R"(}, "treatments": )" + treatments + "}}"),
+                                               "c.json", dir.path());
+    };
+    // seeded treatments without a seed block: the best source run's population
+    const auto config = make("", R"(["none", "seed", "seed-sum"])");
+    REQUIRE(config.seed.has_value());
+    CHECK_FALSE(config.seed->from_file);
+    CHECK(config.seed->with == runs::SeedWith::population);
+    CHECK_FALSE(config.seed->count.has_value());
+    CHECK(config.seeded());
+    CHECK(config.needs_kb());  // seed-sum shapes
+    CHECK_FALSE(config.needs_randomized_kb());
+    CHECK(config.to_json()["seed"] == parse(R"({"from": "best", "with": "population"})"));
+    const auto plan = runs::plan_runs(config);
+    REQUIRE(plan.size() == 4);
+    CHECK(plan[2].file == "target/seed/seed-1.db");
+    CHECK(plan[3].file == "target/seed-sum/seed-1.db");
+    CHECK(plan[3].treatment == runs::Treatment::seed_sum);
+    // a seed alone needs no KB
+    CHECK_FALSE(make("", R"(["seed"])").needs_kb());
+    // a campaign without seeded treatments stores no seed block (older campaigns resume unchanged)
+    CHECK_FALSE(make("", R"(["none"])").to_json().contains("seed"));
+
+    // a given run file, as given; with and count
+    test::write_file(dir / "src.db", "");
+    const auto file = make(R"(, "seed": {"file": "src.db", "with": "best", "count": 3})", R"(["seed-mo"])");
+    CHECK(file.seed->from_file);
+    CHECK(file.seed->file == dir / "src.db");
+    CHECK(file.seed->count == 3);
+    CHECK(file.to_json()["seed"] == parse(R"({"file": "src.db", "with": "best", "count": 3})"));
+    const auto again = runs::CampaignConfig::from_json(file.to_json(), "stored", dir.path());
+    CHECK(again.to_json() == file.to_json());
+
+    const auto error = [&](const std::string& extra, const std::string& treatments) {
+        try {
+            make(extra, treatments);
+        } catch (const ConfigError& e) {
+            return std::string(e.what());
+        }
+        return std::string("no error");
+    };
+    CHECK_THAT(error(R"(, "seed": {"file": "none.db"})", R"(["seed"])"),
+               Contains("seed.file: none.db does not exist"));
+    CHECK_THAT(error(R"(, "seed": {"from": "best", "file": "src.db"})", R"(["seed"])"),
+               Contains("cannot both be given"));
+    CHECK_THAT(error(R"(, "seed": {"from": "worst"})", R"(["seed"])"), Contains("seed.from"));
+    CHECK_THAT(error(R"(, "seed": {"count": 0})", R"(["seed"])"), Contains("seed.count must be >= 1, got 0"));
+    CHECK_THAT(error(R"(, "seed": {"with": "all"})", R"(["seed"])"), Contains("seed.with"));
+    CHECK_THAT(error_of(target(R"("treatments": ["seed"])")),
+               Contains("a seeded treatment needs a source step"));
+    CHECK_THAT(error_of(std::string(R"({"source": {"config": {)") + kTask +
+                        R"(, "ea": {"population_size": 12}}}, "target": {"config": {)" + kTask +
+                        R"(}, "treatments": ["seed"]}})"),
+               Contains("seed.with population needs one population size"));
+}

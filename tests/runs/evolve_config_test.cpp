@@ -68,3 +68,63 @@ TEST_CASE("every example run config parses and the paper's carries the paper's v
     CHECK(paper.kb->delta == 1.83);
     CHECK(paper.kb->period == 200);
 }
+
+TEST_CASE("transfer.seed: the source relative to the config, its defaults, and its stored form",
+          "[runs][config][seed]") {
+    test::TempDir dir;
+    std::filesystem::create_directories(dir / "configs");
+    test::write_file(dir / "configs" / "c.json", R"({"ea": {"population_size": 12},
+        "transfer": {"treatment": "none", "seed": {"from": "../runs/source.db"}}})");
+    const auto config = runs::EvolveConfig::load(dir / "configs" / "c.json");
+    REQUIRE(config.seeding() != nullptr);
+    CHECK(config.seeding()->from == dir / "configs" / "../runs/source.db");
+    CHECK(config.seeding()->with == runs::SeedWith::population);
+    CHECK(config.seeding()->count == 12);  // the population size
+    CHECK(config.treatment() == runs::Treatment::none);
+    CHECK(config.run_treatment() == runs::Treatment::seed);
+    const auto json = config.to_json();
+    CHECK(json["transfer"] == nlohmann::json::parse(R"({"treatment": "none", "seed": {"from": ")" +
+                                                    (dir / "configs" / "../runs/source.db").string() +
+                                                    R"(", "with": "population", "count": 12}})"));
+    // the stored form reads back as the same config
+    CHECK(runs::EvolveConfig::from_json(json, "stored").to_json() == json);
+
+    test::write_file(dir / "s.json", R"({"transfer": {"treatment": "sum", "kb": "/k.db",
+        "seed": {"from": "/abs/source.db", "with": "best", "count": 5, "digest": "ab12"}}})");
+    const auto shaped = runs::EvolveConfig::load(dir / "s.json");
+    CHECK(shaped.seeding()->from == "/abs/source.db");
+    CHECK(shaped.seeding()->with == runs::SeedWith::best);
+    CHECK(shaped.seeding()->count == 5);
+    CHECK(shaped.seeding()->digest == "ab12");
+    CHECK(shaped.run_treatment() == runs::Treatment::seed_sum);
+    CHECK(shaped.to_json()["transfer"]["kb"] == "/k.db");
+    CHECK(shaped.to_json()["transfer"]["seed"]["digest"] == "ab12");
+
+    // an unseeded transfer block is stored as before seeding existed
+    test::write_file(dir / "u.json", R"({"transfer": {"treatment": "mo", "kb": "/k.db"}})");
+    const auto plain = runs::EvolveConfig::load(dir / "u.json");
+    CHECK(plain.seeding() == nullptr);
+    CHECK(plain.run_treatment() == runs::Treatment::mo);
+    CHECK(plain.to_json()["transfer"] ==
+          nlohmann::json::parse(R"({"treatment": "mo", "kb": "/k.db", "kb_name": ""})"));
+}
+
+TEST_CASE("bad transfer.seed settings are refused with the key named", "[runs][config][seed][errors]") {
+    test::TempDir dir;
+    const std::vector<std::pair<std::string, std::string>> cases = {
+        {R"({"transfer": {"seed": {}}})", "c.json: transfer.seed.from is required"},
+        {R"({"transfer": {"seed": {"from": "s.db", "count": 0}}})",
+         "transfer.seed.count must be >= 1, got 0"},
+        {R"({"transfer": {"seed": {"from": "s.db", "count": -4}}})",
+         "transfer.seed.count must be >= 1, got -4"},
+        {R"({"transfer": {"seed": {"from": "s.db", "with": "elite"}}})", "transfer.seed.with must be one of"},
+        {R"({"transfer": {"seed": {"from": "s.db", "size": 3}}})", "transfer.seed.size: unknown key"},
+        {R"({"transfer": {"treatment": "seed-mo", "seed": {"from": "s.db"}}})", "with treatment mo"},
+    };
+    for (const auto& [text, message] : cases) {
+        INFO(text);
+        test::write_file(dir / "c.json", text);
+        CHECK_THROWS_AS(runs::EvolveConfig::load(dir / "c.json"), ConfigError);
+        CHECK_THROWS_WITH(runs::EvolveConfig::load(dir / "c.json"), Contains(message));
+    }
+}

@@ -13,6 +13,11 @@ namespace {
 
 constexpr double kBall = 1.0 / 24.0;  // one ball of 24 (8 balls x 3 starts)
 
+// how a refused seeded name points to its shaping: "with treatment sum"
+std::string concat_name(runs::Treatment plain) {
+    return "with treatment " + std::string(runs::to_string(plain));
+}
+
 }  // namespace
 
 TEST_CASE("sum fitness: n balls always rank below n + 1 balls whatever the shaping", "[runs][treatment]") {
@@ -66,4 +71,41 @@ TEST_CASE("treatment names parse and print, and an unknown one is refused", "[ru
     CHECK_THROWS_WITH(
         runs::parse_treatment("summ", "--treatment"),
         Contains("--treatment") && Contains("none, sum, mo, sum-rand, mo-rand") && Contains("summ"));
+}
+
+TEST_CASE("seeded treatments: their names, their shaping and their twins", "[runs][treatment][seed]") {
+    using runs::Treatment;
+    const std::vector<std::pair<Treatment, Treatment>> twins = {
+        {Treatment::none, Treatment::seed},
+        {Treatment::sum, Treatment::seed_sum},
+        {Treatment::mo, Treatment::seed_mo},
+        {Treatment::sum_rand, Treatment::seed_sum_rand},
+        {Treatment::mo_rand, Treatment::seed_mo_rand}};
+    for (const auto& [plain, seeded] : twins) {
+        INFO(runs::to_string(seeded));
+        CHECK(
+            runs::to_string(seeded) ==
+            (plain == Treatment::none ? std::string("seed") : "seed-" + std::string(runs::to_string(plain))));
+        CHECK(runs::parse_treatment(std::string(runs::to_string(seeded))) == seeded);
+        CHECK(runs::is_seeded(seeded));
+        CHECK_FALSE(runs::is_seeded(plain));
+        CHECK(runs::shaping_of(seeded) == plain);
+        CHECK(runs::shaping_of(plain) == plain);
+        CHECK(runs::seeded(plain) == seeded);
+        CHECK(runs::seeded(seeded) == seeded);
+        // a seeded treatment shapes as its twin does
+        CHECK(runs::needs_kb(seeded) == runs::needs_kb(plain));
+        CHECK(runs::needs_randomized_kb(seeded) == runs::needs_randomized_kb(plain));
+        CHECK(runs::adds_shaping(seeded) == runs::adds_shaping(plain));
+        CHECK(runs::shaping_objective(seeded) == runs::shaping_objective(plain));
+        CHECK(runs::treatment_objectives(seeded, 0.25, 3.0, 0.5, 1.0, kBall) ==
+              runs::treatment_objectives(plain, 0.25, 3.0, 0.5, 1.0, kBall));
+        // a run config names the shaping alone
+        CHECK(runs::parse_shaping_treatment(std::string(runs::to_string(plain))) == plain);
+        CHECK_THROWS_WITH(runs::parse_shaping_treatment(std::string(runs::to_string(seeded)), "t.treatment"),
+                          Contains("t.treatment must be one of none, sum, mo, sum-rand, mo-rand") &&
+                              Contains(concat_name(plain)));
+    }
+    // the campaign default stays the paper's five
+    for (auto t : runs::all_treatments()) CHECK_FALSE(runs::is_seeded(t));
 }

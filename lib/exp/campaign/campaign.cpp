@@ -110,6 +110,8 @@ CampaignSummary run_campaign(const CampaignOptions& given) {
     summary.failures = runner.execute(sources, summary);
     if (summary.failures.empty() && !InterruptGuard::received()) {
         if (config.needs_kb()) make_campaign_kbs(options.dir, config, connection, runs);
+        if (config.seeded())
+            runner.set_seeding(campaign_seed_source(options.dir, config, runs), *config.seed);
         if (!InterruptGuard::received()) summary.failures = runner.execute(targets, summary);
     }
     for (const auto& state : runs) summary.finished += state.status == runs::RunStatus::finished ? 1 : 0;

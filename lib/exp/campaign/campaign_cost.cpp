@@ -294,6 +294,13 @@ void write_plan(std::ostream& out, const runs::CampaignConfig& config, const Cam
     if (config.kb_delta) out << "         coarsened to delta " << shortest(*config.kb_delta) << "\n";
     if (config.needs_randomized_kb())
         out << "kb-rand  randomized with seed " << config.randomize_seed << "\n";
+    if (config.seeded()) {
+        const auto& seed = *config.seed;
+        out << "seed     " << runs::to_string(seed.with) << " of "
+            << (seed.from_file ? seed.file_given : std::string("the best source run"));
+        if (seed.count) out << ", at most " << *seed.count;
+        out << "\n";
+    }
     out << "target   " << config.treatments.size() << " treatments (";
     for (std::size_t k = 0; k < config.treatments.size(); ++k) {
         out << (k ? ", " : "") << runs::to_string(config.treatments[k]);

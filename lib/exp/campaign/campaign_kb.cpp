@@ -38,6 +38,27 @@ void gunzip_file(const fs::path& in, const fs::path& out) {
     }
 }
 
+const runs::CampaignRun& best_source_run(const std::vector<runs::CampaignRun>& runs) {
+    const runs::CampaignRun* best = nullptr;
+    for (const auto& state : runs) {
+        if (state.run.step != runs::CampaignStep::source) continue;
+        if (best == nullptr) {
+            best = &state;
+            continue;
+        }
+        const double r = state.best_reward.value_or(0), b = best->best_reward.value_or(0);
+        if (r > b || (r == b && state.run.seed < best->run.seed)) best = &state;
+    }
+    if (best == nullptr) throw Error("the campaign has no source run");
+    return *best;
+}
+
+fs::path campaign_seed_source(const fs::path& dir, const runs::CampaignConfig& config,
+                              const std::vector<runs::CampaignRun>& runs) {
+    if (config.seed && config.seed->from_file) return config.seed->file;
+    return dir / best_source_run(runs).run.file;
+}
+
 void make_campaign_kbs(const fs::path& dir, const runs::CampaignConfig& config, db::Connection& connection,
                        const std::vector<runs::CampaignRun>& runs) {
     const fs::path kb_path = dir / runs::kKbFile;
@@ -65,11 +86,7 @@ void make_campaign_kbs(const fs::path& dir, const runs::CampaignConfig& config, 
             if (state.run.step == runs::CampaignStep::source) sources.push_back(&state);
         }
         if (config.kb_from == runs::KbFrom::best || sources.size() == 1) {
-            const runs::CampaignRun* best = sources.front();
-            for (const runs::CampaignRun* state : sources) {
-                const double r = state->best_reward.value_or(0), b = best->best_reward.value_or(0);
-                if (r > b || (r == b && state->run.seed < best->run.seed)) best = state;
-            }
+            const runs::CampaignRun* best = &best_source_run(runs);
             runs::export_kb(dir / best->run.file, runs::kRunKbName, kb_path, true);
             made_from =
                 concat("best source run ", best->run.file, " (reward ", best->best_reward.value_or(0), ")");

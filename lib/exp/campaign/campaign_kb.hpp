@@ -21,4 +21,15 @@ void gunzip_file(const std::filesystem::path& in, const std::filesystem::path& o
 void make_campaign_kbs(const std::filesystem::path& dir, const runs::CampaignConfig& config,
                        db::Connection& connection, const std::vector<runs::CampaignRun>& runs);
 
+/// The source run with the highest best reward, the lowest seed on ties (the
+/// KB of kb.from best, the seeds of seed.from best). `runs` holds the
+/// finished source runs, at least one.
+const runs::CampaignRun& best_source_run(const std::vector<runs::CampaignRun>& runs);
+
+/// The run file that seeds the seeded treatments: seed.file, or the best
+/// source run's file under `dir`.
+std::filesystem::path campaign_seed_source(const std::filesystem::path& dir,
+                                           const runs::CampaignConfig& config,
+                                           const std::vector<runs::CampaignRun>& runs);
+
 }  // namespace stepstone::exp

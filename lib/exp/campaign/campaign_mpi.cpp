@@ -29,6 +29,11 @@ nlohmann::json launch_to_json(const RunLaunch& launch) {
         json["kb"] = launch.kb->string();
         json["treatment"] = to_string(*launch.treatment);
     }
+    if (launch.seed_from) {
+        json["seed_from"] = launch.seed_from->string();
+        json["seed_with"] = to_string(*launch.seed_with);
+        if (launch.seed_count) json["seed_count"] = *launch.seed_count;
+    }
     return json;
 }
 
@@ -45,6 +50,11 @@ RunLaunch launch_from_json(const nlohmann::json& json) {
     if (json.contains("kb")) {
         launch.kb = json.at("kb").get<std::string>();
         launch.treatment = runs::parse_treatment(json.at("treatment").get<std::string>(), "treatment");
+    }
+    if (json.contains("seed_from")) {
+        launch.seed_from = json.at("seed_from").get<std::string>();
+        launch.seed_with = runs::parse_seed_with(json.at("seed_with").get<std::string>(), "seed_with");
+        if (json.contains("seed_count")) launch.seed_count = json.at("seed_count").get<int>();
     }
     return launch;
 }

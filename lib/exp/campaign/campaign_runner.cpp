@@ -8,6 +8,7 @@
 #include <map>
 #include <thread>
 
+#include "core/assert.hpp"
 #include "core/child_process.hpp"
 #include "core/error.hpp"
 #include "core/text.hpp"
@@ -80,6 +81,9 @@ EvolveOptions RunLaunch::evolve_options() const {
     options.resume = resume;
     options.kb = kb;
     options.treatment = treatment;
+    options.seed_from = seed_from;
+    options.seed_with = seed_with;
+    options.seed_count = seed_count;
     options.progress = ProgressMode::quiet;
     return options;
 }
@@ -93,6 +97,11 @@ fs::path run_log_path(const fs::path& dir, const runs::PlannedRun& run) {
 Runner::Runner(const CampaignOptions& options, db::Connection& connection,
                std::vector<runs::CampaignRun>& runs, Progress& progress, RunExecutor& executor)
     : options_(options), connection_(connection), runs_(runs), progress_(progress), executor_(executor) {}
+
+void Runner::set_seeding(fs::path source, const runs::CampaignSeed& seed) {
+    seed_source_ = std::move(source);
+    seed_ = seed;
+}
 
 std::vector<std::string> Runner::execute(const std::vector<std::size_t>& indices, CampaignSummary& summary) {
     std::deque<std::size_t> queue;
@@ -179,7 +188,13 @@ RunLaunch Runner::launch_of(std::size_t k, unsigned threads) const {
     if (state.run.step == runs::CampaignStep::target && needs_kb(state.run.treatment)) {
         launch.kb =
             options_.dir / (needs_randomized_kb(state.run.treatment) ? runs::kRandomKbFile : runs::kKbFile);
-        launch.treatment = state.run.treatment;
+        launch.treatment = shaping_of(state.run.treatment);
+    }
+    if (state.run.step == runs::CampaignStep::target && is_seeded(state.run.treatment)) {
+        STEPSTONE_ASSERT(seed_source_.has_value());
+        launch.seed_from = *seed_source_;
+        launch.seed_with = seed_.with;
+        launch.seed_count = seed_.count;
     }
     return launch;
 }

@@ -29,7 +29,10 @@ struct RunLaunch {
     unsigned threads = 1;
     bool resume = false;
     std::optional<std::filesystem::path> kb;   ///< the shaping KB of a target run that uses one
-    std::optional<runs::Treatment> treatment;  ///< set with kb
+    std::optional<runs::Treatment> treatment;  ///< set with kb: its shaping treatment
+    std::optional<std::filesystem::path> seed_from;  ///< the seed source of a seeded target run
+    std::optional<runs::SeedWith> seed_with;         ///< set with seed_from
+    std::optional<int> seed_count;                   ///< set with seed_from when the campaign gives one
     std::filesystem::path log;
 
     /// The engine's options for this run, whether a child process or an MPI
@@ -79,6 +82,10 @@ public:
     Runner(const CampaignOptions& options, db::Connection& connection, std::vector<runs::CampaignRun>& runs,
            Progress& progress, RunExecutor& executor);
 
+    /// The seed source of the seeded target runs, and the campaign's seed
+    /// settings (its with and count); set before they are executed.
+    void set_seeding(std::filesystem::path source, const runs::CampaignSeed& seed);
+
     /// Runs the runs `indices` to the end (finished ones on disk are only
     /// recorded, in `summary.skipped`); returns the failures, "file: error".
     /// Once SIGINT or SIGTERM arrived (under an InterruptGuard) no run is
@@ -110,6 +117,8 @@ private:
     Progress& progress_;
     RunExecutor& executor_;
     double last_reading_ = -kReadingPeriod;  ///< now_seconds() of the last reading of the run files
+    std::optional<std::filesystem::path> seed_source_;
+    runs::CampaignSeed seed_;
 };
 
 /// The log file of `run` under `dir`: logs/<file with / as ->.log.

@@ -56,7 +56,8 @@ TEST_CASE("bad campaign input: one line, exit 2, nothing started", "[exp][campai
     };
     const std::vector<Case> cases = {
         {R"({"target": {"config": {"task": {"kind": "target"}}, "treatments": ["sum", "best"]}, "kb": {"file": "k.db"}})",
-         "target.treatments must be one of none, sum, mo, sum-rand, mo-rand, got \"best\""},
+         "target.treatments must be one of none, sum, mo, sum-rand, mo-rand, seed, seed-sum, seed-mo, "
+         "seed-sum-rand, seed-mo-rand, got \"best\""},
         {R"({"target": {"config": {"task": {"kind": "target"}}, "treatments": ["sum"]}})", "needs kb.file"},
         {R"({"target": {"config": {"task": {"kind": "target"}}}, "kb": {"file": "nowhere.db"}})",
          "does not exist"},
