@@ -174,6 +174,8 @@ TEST_CASE("seeded generation 0 holds the source's policies of each kind, then ra
         REQUIRE(result.exit_code == 0);
         const auto expected = expected_seeds(source, c.with, c.at_most);
         REQUIRE(!expected.empty());
+        // the source's last first front holds fewer than the population: the rest is filled up
+        if (c.with == "front") CHECK(expected.size() < 8);
         const auto genomes = generation0_genomes(dir / name);
         REQUIRE(genomes.size() == 16);
         // the seeds first, in order, exactly as the source stored them
