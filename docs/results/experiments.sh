@@ -13,6 +13,10 @@
 #        generations on the target task with the KB of src1, one run at a time;
 #        stops unless the campaign recorded E1's KB digest
 #   lcsv L's statistics so far into docs/results/l_*.csv (interim until 40 an arm)
+#   e4   experiment E4 (docs/results.md section 12): none / seed / sum x 20 seeds x 300
+#        generations, seeded from and shaped by src1's run and KB
+#   e4csv E4's statistics so far into docs/results/e4_*.csv (interim until 20 an arm)
+#   (the statistics steps need a build with stats --hazard-csv: 0.2.0 or later)
 #   csv  the statistics of whatever has finished, into docs/results/:
 #        e1_events.csv, e1_logrank.csv, e1_runs.csv, e1_tests.csv (and e2_*),
 #        the Kaplan-Meier figure as e1_kaplan_meier.png; with e2c, its CSVs
@@ -21,12 +25,12 @@
 # Campaign directories go under OUT (default: experiments/), never into git.
 # Run a step again after an interruption: finished runs are kept (campaign --resume).
 #
-# Usage: docs/results/experiments.sh e1|e2|e2c|src1|l|lcsv|csv [OUT] [STEPSTONE] [JOBS]
+# Usage: docs/results/experiments.sh e1|e2|e2c|src1|l|lcsv|e4|e4csv|csv [OUT] [STEPSTONE] [JOBS]
 #   e.g. nice docs/results/experiments.sh e1 /work/exp build/release/apps/stepstone/stepstone 2
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 repo="$(cd "$here/../.." && pwd)"
-step="${1:?usage: experiments.sh e1|e2|e2c|src1|l|lcsv|csv [OUT] [STEPSTONE] [JOBS]}"
+step="${1:?usage: experiments.sh e1|e2|e2c|src1|l|lcsv|e4|e4csv|csv [OUT] [STEPSTONE] [JOBS]}"
 out="${2:-experiments}"
 stepstone="${3:-stepstone}"
 jobs="${4:-2}"
@@ -49,11 +53,13 @@ stats() {  # NAME [PREFIX]: the CSVs and the Kaplan-Meier figure of the runs tha
     last="$(sqlite3 "$dir/campaign.db" "SELECT max(generations) FROM campaign_run WHERE step = 'target'")"
     "$stepstone" stats "$dir" --available --generation "$last" --force \
         --events-csv "$here/${name}_events.csv" --logrank-csv "$here/${name}_logrank.csv" \
-        --runs-csv "$here/${name}_runs.csv" --tests-csv "$here/${name}_tests.csv" > "$here/${name}_stats.txt"
+        --runs-csv "$here/${name}_runs.csv" --tests-csv "$here/${name}_tests.csv" \
+        --hazard-csv "$here/${name}_hazard.csv" > "$here/${name}_stats.txt"
     "$stepstone" report "$dir" --out "$out/$1-report" --force --quiet
     cp "$out/$1-report/kaplan-meier.png" "$here/figures/${name}_kaplan_meier.png"
     cp "$out/$1-report/milestone-shares.png" "$here/figures/${name}_milestone_shares.png"
     /usr/bin/python3 "$repo/scripts/logrank-check" "$here/${name}_events.csv" "$here/${name}_logrank.csv" > /dev/null
+    /usr/bin/python3 "$repo/scripts/hazard-check" "$here/${name}_events.csv" "$here/${name}_hazard.csv" > /dev/null
 }
 
 pool_e2() {  # E2 = every part's runs (e2_part1_*: the first machine's 34, e2_part2_*: e2c's, ...), pooled
@@ -111,6 +117,12 @@ case "$step" in
     src1) src1 ;;
     l) l_run ;;
     lcsv) stats l ;;
+    e4)
+        [ -f "$out/source-1/kb.db" ] || { echo "experiments.sh: run src1 first" >&2; exit 1; }
+        ln -sf "$out/source-1/kb.db" "$repo/examples/experiments/source_kb.db"
+        ln -sf "$out/source-1/seed-1.db" "$repo/examples/experiments/source_run.db"
+        campaign e4 "$repo/examples/experiments/e4_reuse.json" ;;
+    e4csv) stats e4 ;;
     csv) stats e1; stats e2; stats e2c e2_part2; pool_e2 ;;
-    *) echo "experiments.sh: unknown step '$step' (e1, e2, e2c, src1, l, lcsv or csv)" >&2; exit 2 ;;
+    *) echo "experiments.sh: unknown step '$step' (e1, e2, e2c, src1, l, lcsv, e4, e4csv or csv)" >&2; exit 2 ;;
 esac
