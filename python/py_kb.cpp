@@ -7,7 +7,9 @@
 #include <chrono>
 #include <cmath>
 #include <memory>
+#include <mutex>
 #include <optional>
+#include <shared_mutex>
 #include <string>
 
 #include "bindings.hpp"
@@ -25,11 +27,21 @@ namespace {
 // KB's segments without a copy (KnowledgeBase.segments); a change that could
 // move the segments is refused while one lives, as numpy refuses to resize an
 // array that others reference.
+//
+// Python threads may share one KB: the calls that release the GIL run C++ at
+// once, so `lock` orders them. A change (observe, merge) takes it alone, every
+// read shares it, so lookups stay concurrent. The lock is always taken after
+// the GIL is released (or while holding it, by calls that never release it and
+// wait only for C++ work that does not need the GIL), so the two cannot deadlock.
 struct PyKb {
     kb::KnowledgeBase kb;
     std::string name;  // as stored in a file ("" for a KB built in Python)
     std::optional<std::uint64_t> randomized_seed;
     std::shared_ptr<std::atomic<int>> views = std::make_shared<std::atomic<int>>(0);
+    std::shared_ptr<std::shared_mutex> lock = std::make_shared<std::shared_mutex>();
+
+    std::shared_lock<std::shared_mutex> reading() const { return std::shared_lock(*lock); }
+    std::unique_lock<std::shared_mutex> writing() const { return std::unique_lock(*lock); }
 
     explicit PyKb(kb::KnowledgeBase k, std::string n = {}, std::optional<std::uint64_t> seed = std::nullopt)
         : kb(std::move(k)), name(std::move(n)), randomized_seed(seed) {}
@@ -81,6 +93,7 @@ PyLookup lookup(const PyKb& self, const FloatArray& behaviour) {
     kb::Lookup found;
     {
         py::gil_scoped_release release;
+        const auto shared = self.reading();
         found = self.kb.lookup(segments);
     }
     const auto n = static_cast<py::ssize_t>(found.segments.size());
@@ -100,16 +113,18 @@ PyLookup lookup(const PyKb& self, const FloatArray& behaviour) {
 double r_max(const PyKb& self, const FloatArray& behaviour) {
     const kb::Segments segments = segments_of(self, behaviour);
     py::gil_scoped_release release;
+    const auto shared = self.reading();
     return self.kb.r_max(segments);
 }
 
 py::dict observe(PyKb& self, const FloatArray& behaviour, double reward, const std::string& run,
                  std::int64_t generation) {
-    self.check_unviewed("observe");
     const kb::Segments segments = segments_of(self, behaviour);
     kb::ObserveResult result;
     {
         py::gil_scoped_release release;
+        const auto alone = self.writing();
+        self.check_unviewed("observe");  // under the lock: no view can appear before the change
         kb::check_run_name(run, "run");
         const std::uint32_t source = self.kb.add_source(run);
         result = self.kb.observe(segments, reward, kb::Origin{source, generation});
@@ -124,6 +139,7 @@ py::dict observe(PyKb& self, const FloatArray& behaviour, double reward, const s
 // keeps the KB alive and counts itself in `views` while it lives
 py::array segments_view(py::object owner) {
     PyKb& self = owner.cast<PyKb&>();
+    const auto shared = self.reading();  // no change is under way while the view is made
     const kb::KbParams& params = self.kb.params();
     struct Token {
         std::shared_ptr<std::atomic<int>> views;
@@ -145,6 +161,7 @@ py::array segments_view(py::object owner) {
 }
 
 py::array_t<RecordRow> records(const PyKb& self) {
+    const auto shared = self.reading();
     py::array_t<RecordRow> out(static_cast<py::ssize_t>(self.kb.size()));
     auto rows = out.mutable_unchecked<1>();
     for (std::size_t i = 0; i < self.kb.size(); ++i) {
@@ -157,6 +174,7 @@ py::array_t<RecordRow> records(const PyKb& self) {
 }
 
 py::list sources(const PyKb& self) {
+    const auto shared = self.reading();
     py::list out;
     for (const kb::Source& source : self.kb.sources()) {
         py::dict row;
@@ -169,14 +187,16 @@ py::list sources(const PyKb& self) {
     return out;
 }
 
-void save(const PyKb& self, const std::string& path, const std::optional<std::string>& name, bool force) {
+void save(const PyKb& self, const std::filesystem::path& path, const std::optional<std::string>& name,
+          bool force) {
     const std::string stored = name ? *name : (self.name.empty() ? std::string("kb") : self.name);
     kb::check_run_name(stored, "name");
     py::gil_scoped_release release;
+    const auto shared = self.reading();
     runs::save_kb_file(path, force, stored, self.kb, self.randomized_seed);
 }
 
-PyKb open(const std::string& path, const std::optional<std::string>& name) {
+PyKb open(const std::filesystem::path& path, const std::optional<std::string>& name) {
     db::StoredKb stored;
     {
         py::gil_scoped_release release;
@@ -186,6 +206,7 @@ PyKb open(const std::string& path, const std::optional<std::string>& name) {
 }
 
 std::string repr(const PyKb& self) {
+    const auto shared = self.reading();
     const kb::KbParams& p = self.kb.params();
     return concat("<stepstone.KnowledgeBase", self.name.empty() ? "" : concat(" '", self.name, "'"), ": ",
                   self.kb.size(), " segments of ", p.segment_width, " x ", p.channels, ", delta ",
@@ -205,6 +226,7 @@ double time_lookups(const PyKb& self, const FloatArray& behaviours, bool r_max_o
     const auto policies = static_cast<std::size_t>(behaviours.shape(0));
     const kb::KbParams& params = self.kb.params();
     py::gil_scoped_release release;
+    const auto shared = self.reading();
     double sink = 0.0;
     const auto start = std::chrono::steady_clock::now();
     for (std::size_t i = 0; i < policies; ++i) {
@@ -286,8 +308,24 @@ Every answer is exact and independent of threads.
         .def(
             "merge",
             [](PyKb& self, const PyKb& other) {
-                self.check_unviewed("merge");
                 py::gil_scoped_release release;
+                // the two locks in one order (by address), so that a.merge(b) and b.merge(a) cannot deadlock
+                if (&self == &other) {
+                    const auto alone = self.writing();
+                    self.check_unviewed("merge");
+                    self.kb.merge(other.kb);
+                    return;
+                }
+                std::unique_lock<std::shared_mutex> mine(*self.lock, std::defer_lock);
+                std::shared_lock<std::shared_mutex> theirs(*other.lock, std::defer_lock);
+                if (self.lock.get() < other.lock.get()) {
+                    mine.lock();
+                    theirs.lock();
+                } else {
+                    theirs.lock();
+                    mine.lock();
+                }
+                self.check_unviewed("merge");
                 self.kb.merge(other.kb);
             },
             py::arg("other"),
@@ -296,6 +334,7 @@ Every answer is exact and independent of threads.
         .def(
             "randomized",
             [](const PyKb& self, std::uint64_t seed) {
+                const auto shared = self.reading();
                 return PyKb(self.kb.randomized(seed), self.name.empty() ? "" : self.name + "-rand", seed);
             },
             py::arg("seed"),
@@ -303,7 +342,10 @@ Every answer is exact and independent of threads.
             "--seed`.")
         .def(
             "coarsened",
-            [](const PyKb& self, double delta) { return PyKb(self.kb.coarsened(delta), self.name); },
+            [](const PyKb& self, double delta) {
+                const auto shared = self.reading();
+                return PyKb(self.kb.coarsened(delta), self.name);
+            },
             py::arg("delta"),
             "This KB's segments re-observed under a larger threshold, as `kb export --delta`.")
         .def(
@@ -313,6 +355,7 @@ Every answer is exact and independent of threads.
                     throw py::value_error(concat("segment has ", segment.size(),
                                                  " values, the KB's segments have ", self.kb.params().dim()));
                 }
+                const auto shared = self.reading();
                 const auto found =
                     self.kb.nearest({segment.data(), static_cast<std::size_t>(segment.size())});
                 if (!found) return py::none();
@@ -351,10 +394,19 @@ Every answer is exact and independent of threads.
             "randomized_seed", [](const PyKb& s) { return s.randomized_seed; },
             "the seed of a randomized KB, else None")
         .def_property_readonly(
-            "max_average", [](const PyKb& s) { return s.kb.max_average(); },
+            "max_average",
+            [](const PyKb& s) {
+                const auto shared = s.reading();
+                return s.kb.max_average();
+            },
             "the largest average reward (0 if empty): the `sum` treatment's normaliser")
         .def(
-            "__len__", [](const PyKb& s) { return s.kb.size(); }, "the number of segments")
+            "__len__",
+            [](const PyKb& s) {
+                const auto shared = s.reading();
+                return s.kb.size();
+            },
+            "the number of segments")
         .def("__repr__", &repr);
 
     m.def(

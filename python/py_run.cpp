@@ -58,9 +58,9 @@ struct PyRun {
     runs::RunRecord run;
 };
 
-PyRun open_run(const std::string& path) {
+PyRun open_run(const std::filesystem::path& path) {
     PyRun out;
-    out.path = path;
+    out.path = path.string();
     out.connection = std::make_shared<db::Connection>(db::open_database(path, db::OpenMode::read_only));
     out.run = runs::load_run(*out.connection);
     return out;

@@ -13,6 +13,7 @@
 #include "bindings.hpp"
 #include "core/config.hpp"
 #include "core/error.hpp"
+#include "core/portable_math.hpp"
 #include "core/rng.hpp"
 #include "core/text.hpp"
 #include "exp/evaluation.hpp"
@@ -158,14 +159,18 @@ void bind_sim(py::module_& m) {
 'source': collect balls; a switch opens the door to the second room.
 'target': the door is open; each switch press lights one ball, re-armed after 100 steps.
 The defaults are the paper's: 3 starts of 4000 steps, the stand-still rule at 100 steps.
-The keys are those of a run config's "task" object, so Task(**run.config["task"]) rebuilds a run's task,
-its arena included.)")
+The keys are those of a run config's "task" object, so
+Task(**run.config["task"], math=run.config.get("math", "libm")) rebuilds a run's task, its arena
+and its math included (a stored config names "math" only when portable).)")
         .def(py::init([](const std::string& kind, int steps_per_start, int starts, int still_limit,
-                         int grid_period, const py::object& arena) {
+                         int grid_period, const py::object& arena, const std::string& math) {
                  sim::TaskConfig config;
-                 if (py::isinstance<py::str>(arena)) {
+                 const auto chosen = parse_math(math);
+                 if (!chosen) throw ConfigError(concat("math must be portable or libm, got '", math, "'"));
+                 config.math = *chosen;
+                 if (py::isinstance<py::str>(arena) || py::hasattr(arena, "__fspath__")) {
                      config.arena = std::make_shared<const sim::ArenaSpec>(
-                         sim::ArenaSpec::load(arena.cast<std::string>()));
+                         sim::ArenaSpec::load(arena.cast<std::filesystem::path>()));
                  } else if (!arena.is_none()) {
                      config.arena = std::make_shared<const sim::ArenaSpec>(
                          sim::ArenaSpec::from_json(nlohmann::json::parse(json_text(arena)), "arena"));
@@ -179,8 +184,11 @@ its arena included.)")
              }),
              py::arg("kind") = "source", py::arg("steps_per_start") = 4000, py::arg("starts") = 3,
              py::arg("still_limit") = 100, py::arg("grid_period") = 50, py::arg("arena") = py::none(),
+             py::arg("math") = "portable",
              "Builds a task; raises ConfigError naming the first value out of range. `arena` is an arena "
-             "file's path or an arena as a dict (docs/simulator.md); default: the paper's.")
+             "file's path or an arena as a dict (docs/simulator.md); default: the paper's. `math`: "
+             "'portable' (stepstone's sine and cosine, the same on every machine) or 'libm' (glibc's, "
+             "what runs made before 0.2.0 used; a stored config without \"math\" is libm).")
         .def_property_readonly(
             "arena", [](const PyTask& t) { return json_loads(t.task->arena_spec().to_json().dump()); },
             "the arena, as a dict in the format of an arena file")

@@ -74,13 +74,8 @@ void run_demo(const DemoFlags& flags) {
     runs::write_text(std::cout, runs::campaign_stats(camp, std::nullopt, 0.5));
     std::cout
         << "   a demo is one small sample (a few seeds, a few dozen generations): it shows the machinery,\n"
-           "   not whether the KB helps. What the pre-registered experiments found (docs/results.md,\n"
-           "   section 9): on the source task itself (E1, 20 runs an arm, 500 generations), shaping by\n"
-           "   the task's own KB did not bring the first ball earlier (3, 4 and 7 of 20 runs for none,\n"
-           "   sum and sum-rand; log-rank sum vs none p = 0.70): no effect. On the target task (E2, 20\n"
-           "   runs an arm) the source KB did not bring the first pickup earlier either (KM medians 34\n"
-           "   for none, 54 for sum; p = 0.63): no effect. The report's Kaplan-Meier figure shows the\n"
-           "   same curves for this demo.\n";
+           "   not whether the KB helps. What the pre-registered experiments can and cannot say is in\n"
+           "   docs/results.md (sections 9 and 10).\n";
     std::cout << "   query the runs with SQL: sqlite3 " << (camp / "campaign.db").string()
               << " 'SELECT file, best_reward FROM campaign_run'" << std::endl;
 

@@ -25,7 +25,7 @@ struct SimulateOptions {
     int steps = 4000;
     int starts = 3;
     std::string arena;
-    std::string math = "libm";
+    std::string math = "portable";
     bool force = false;
 };
 
@@ -96,8 +96,8 @@ void add_simulate_command(CLI::App& app) {
                     "Arena file (JSON, docs/simulator.md; default: the paper's arena)");
     cmd->add_option(
            "--math", options->math,
-           "Sine and cosine: libm (the C library's, as runs use by default) or portable (the same bits "
-           "on every machine; docs/architecture.md, Determinism)")
+           "Sine and cosine: portable (stepstone's own, the default: the same bits on every machine) or "
+           "libm (the C library's, as runs made before 0.2.0 used; docs/architecture.md, Determinism)")
         ->capture_default_str();
     cmd->add_flag("--force", options->force, "Overwrite an existing CSV");
     cmd->footer(example(

@@ -18,6 +18,7 @@
 #include "evo/edit_distance.hpp"
 #include "kb/detail/simd.hpp"
 #include "nn/network.hpp"
+#include "number_checks.hpp"
 #include "sim/arena.hpp"
 
 namespace stepstone::app {
@@ -241,6 +242,7 @@ int main(int argc, char** argv) {
     app.require_subcommand(1);
     app.footer(stepstone::app::example({"stepstone db info run.db", "stepstone demo"}));
     stepstone::app::add_registered_commands(app);
+    stepstone::app::check_whole_numbers(app);
 
     try {
         app.parse(argc, argv);  // runs the chosen command's callback

@@ -178,7 +178,16 @@ void finish_writing(Connection& connection) {
     }
 }
 
-void check_output_path(const fs::path& path, bool force) { check_output_target(path, force); }
+fs::path check_output_path(const fs::path& path, bool force) {
+    const OutputTarget target = resolve_output_target(path, force);
+    if (target.kind == OutputKind::standard_output)
+        throw ConfigError("a database cannot be written to standard output ('-'); name a file");
+    if (target.kind == OutputKind::stream) {
+        throw ConfigError(
+            concat(path.string(), ": is a FIFO or a device, not a file a database can be written to"));
+    }
+    return target.path;
+}
 
 namespace {
 
@@ -223,8 +232,8 @@ fs::path temp_name_for(const fs::path& path) {
 }  // namespace
 
 OutputDatabase::OutputDatabase(const fs::path& path, bool force)
-    : path_((check_output_path(path, force), path)),
-      temp_(temp_name_for(path)),
+    : path_(check_output_path(path, force)),
+      temp_(temp_name_for(path_)),
       connection_(open_database(temp_, OpenMode::create, false, path.string())) {}
 
 OutputDatabase::~OutputDatabase() {

@@ -87,7 +87,8 @@ DatabaseInfo database_info(Connection& connection);
 /// A new database written under a temporary name in the target's folder and
 /// renamed over `path` by commit(): a crash or an exception leaves no partial
 /// output. An existing `path` is refused unless `force`; when it is replaced,
-/// its journal files go too, so they are never applied to the new file.
+/// its journal files go too, so they are never applied to the new file. A
+/// symbolic link is followed: the file it names is replaced, the link stays.
 class OutputDatabase {
 public:
     OutputDatabase(const std::filesystem::path& path, bool force);
@@ -111,7 +112,9 @@ private:
 void remove_database_files(const std::filesystem::path& path);
 
 /// Refuses (ConfigError) an existing output path unless `force`, a directory,
-/// and a path whose folder does not exist (core/output_file.hpp).
-void check_output_path(const std::filesystem::path& path, bool force);
+/// a path whose folder does not exist (core/output_file.hpp), standard output
+/// ("-") and a FIFO or device; returns the path to write, symbolic links
+/// followed (the link is kept and names the new file).
+std::filesystem::path check_output_path(const std::filesystem::path& path, bool force);
 
 }  // namespace stepstone::db

@@ -106,8 +106,8 @@ RunCalibration calibrate_run(const fs::path& run_db, const CalibrateOptions& opt
     if (options.deltas.empty()) return out;
 
     // the size table: one KB per delta, fed batch by batch in id order
-    runs::EvolveConfig config =
-        runs::EvolveConfig::from_json(run.config, run_db.string() + " (stored config)");
+    runs::EvolveConfig config = runs::EvolveConfig::from_json(
+        run.config, run_db.string() + " (stored config)", {}, runs::ConfigOrigin::stored);
     config.task.starts = 1;  // the behaviour is the first start's, which later starts do not change
     const auto task = sim::make_task(config.task);
     std::vector<kb::KnowledgeBase> kbs;

@@ -354,7 +354,8 @@ void serve_evolve(mpi::Session& session, unsigned threads) {
     if (message.tag == kTagStop) return;  // rank 0 stopped before the run began (bad input)
     try {
         const auto setup = nlohmann::json::parse(message.bytes);
-        runs::EvolveConfig config = runs::EvolveConfig::from_json(setup.at("config"), "rank 0's config");
+        runs::EvolveConfig config = runs::EvolveConfig::from_json(setup.at("config"), "rank 0's config", {},
+                                                                  runs::ConfigOrigin::stored);
         // a rank whose math library rounds otherwise would evaluate some policies differently from rank 0
         // (unless the run uses portable math)
         const auto leader_math = setup.at("math_fingerprint").get<std::string>();

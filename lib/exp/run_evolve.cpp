@@ -69,7 +69,9 @@ void apply_transfer_options(runs::EvolveConfig& config, const EvolveOptions& opt
         if (options.kb_name) config.transfer->kb_name = *options.kb_name;
     }
     if (!config.transfer && stored && stored->config.contains("transfer")) {
-        config.transfer = runs::EvolveConfig::from_json(stored->config, "the run's stored config").transfer;
+        config.transfer = runs::EvolveConfig::from_json(stored->config, "the run's stored config", {},
+                                                        runs::ConfigOrigin::stored)
+                              .transfer;
     }
     // after the stored block: a resume may move the seed source with --seed-from alone
     apply_seed_options(config, options);
@@ -181,8 +183,16 @@ RunStart load_run_start(const EvolveOptions& options) {
     }
     auto& config = start.config;
     config = options.config_path.empty()
-                 ? runs::EvolveConfig::from_json(start.stored->config, name + " (stored config)")
+                 ? runs::EvolveConfig::from_json(start.stored->config, name + " (stored config)", {},
+                                                 runs::ConfigOrigin::stored)
                  : runs::EvolveConfig::load(options.config_path);
+    // a run keeps the math it was made with: a config given on resume that does not
+    // name one takes the run's (an older file's, without the key, is libm)
+    if (start.stored && !config.math_given) {
+        config.set_math(runs::EvolveConfig::from_json(start.stored->config, name + " (stored config)", {},
+                                                      runs::ConfigOrigin::stored)
+                            .math());
+    }
     if (options.retain) config.retain = *options.retain;
     if (options.generations) config.ea.generations = *options.generations;
     if (options.seed) config.seed = *options.seed;

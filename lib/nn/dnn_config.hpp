@@ -37,8 +37,9 @@ struct DnnConfig {
     double add_neuron_rate = 0.05;
     /// Probability of deleting one random hidden neuron with its connections.
     double delete_neuron_rate = 0.05;
-    /// The power of the polynomial mutation (set from a run config's "math").
-    Math math = Math::libm;
+    /// The power of the polynomial mutation (set from a run config's "math"):
+    /// stepstone's own by default, as the task's.
+    Math math = Math::portable;
 
     /// Throws ConfigError (one line naming the field) unless every count is
     /// >= 1, every rate in [0, 1], eta >= 0, min < max and all values finite.

@@ -33,7 +33,7 @@ MutationReport mutate(Genome& genome, const DnnConfig& config, Rng& rng);
 /// delta = (2r)^(1/(eta+1)) - 1 if r < 0.5 else 1 - (2(1-r))^(1/(eta+1)),
 /// result clip(gene + delta, 0, 1). Always changes the gene (one draw). The
 /// power is std::pow, or portable::pow when `math` says so.
-double polynomial_mutation(double gene, double eta, Rng& rng, Math math = Math::libm);
+double polynomial_mutation(double gene, double eta, Rng& rng, Math math = Math::portable);
 
 /// Each weight gene mutates with parameter_mutation_rate. Returns the count mutated.
 std::size_t mutate_weights(Genome& genome, const DnnConfig& config, Rng& rng);

@@ -128,8 +128,8 @@ void run_report(const ReportOptions& options, const fs::path& dir, ReportSummary
     if (generations.empty()) {
         throw DataError(concat(options.input.string(), ": the run has no generation yet, nothing to report"));
     }
-    const auto config =
-        runs::EvolveConfig::from_json(run.config, options.input.filename().string() + " (stored config)");
+    const auto config = runs::EvolveConfig::from_json(
+        run.config, options.input.filename().string() + " (stored config)", {}, runs::ConfigOrigin::stored);
     const auto task = sim::make_task(config.task);
     const std::string file = options.input.filename().string();
     Progress progress("report", 5, options.progress);

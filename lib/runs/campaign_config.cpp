@@ -273,7 +273,7 @@ std::vector<PlannedRun> plan_runs(const CampaignConfig& config) {
 }
 
 void write_step_config(const fs::path& path, const RunStep& step) {
-    nlohmann::json json = step.config.to_json();
+    nlohmann::json json = step.config.to_file_json();  // read back as a user config: math named
     json["ea"]["generations"] = step.generations;
     OutputFile out(path, true);
     out.stream() << json.dump(2) << "\n";

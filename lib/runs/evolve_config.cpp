@@ -124,7 +124,7 @@ SeedWith parse_seed_with(const std::string& text, const std::string& what) {
 }
 
 EvolveConfig EvolveConfig::from_json(const nlohmann::json& json, const std::string& source,
-                                     const std::filesystem::path& folder) {
+                                     const std::filesystem::path& folder, ConfigOrigin origin) {
     try {
         JsonReader root(json, "");
         EvolveConfig config;
@@ -157,7 +157,8 @@ EvolveConfig EvolveConfig::from_json(const nlohmann::json& json, const std::stri
         std::string retain = "front";
         root.read_choice("retain", retain, {"front", "all"});
         config.retain = retain == "all" ? Retain::all : Retain::front;
-        std::string math(to_string(Math::libm));
+        config.math_given = root.has("math");
+        std::string math(to_string(origin == ConfigOrigin::stored ? Math::libm : Math::portable));
         root.read_choice("math", math, {"libm", "portable"});
         config.set_math(*parse_math(math));  // read_choice allowed only the two names
         root.finish();
@@ -234,6 +235,12 @@ nlohmann::json EvolveConfig::to_json() const {
             if (!seeding.digest.empty()) json["transfer"]["seed"]["digest"] = seeding.digest;
         }
     }
+    return json;
+}
+
+nlohmann::json EvolveConfig::to_file_json() const {
+    nlohmann::json json = to_json();
+    json["math"] = to_string(math());
     return json;
 }
 

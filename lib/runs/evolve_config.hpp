@@ -84,6 +84,12 @@ enum class Retain {
     all,    ///< every evaluated genome
 };
 
+/// Where a config's JSON comes from, which decides what an absent "math" means.
+enum class ConfigOrigin {
+    user,    ///< a config file or campaign step written by a user: absent means portable
+    stored,  ///< a run's stored config (EvolveConfig::to_json): absent means libm
+};
+
 /// Everything `stepstone evolve` reads from its config file.
 struct EvolveConfig {
     sim::TaskConfig task;
@@ -94,6 +100,10 @@ struct EvolveConfig {
     std::optional<KbConfig> kb;              ///< absent: the run builds no knowledge base
     std::optional<TransferConfig> transfer;  ///< absent: no shaping (treatment none)
 
+    /// The JSON named "math" (false: the origin's default was taken; a user
+    /// config that resumes a run then inherits the run's math).
+    bool math_given = false;
+
     /// The run's shaping treatment (none without a transfer block).
     Treatment treatment() const { return transfer ? transfer->treatment : Treatment::none; }
     /// The run's seeding, null when generation 0 is random.
@@ -101,8 +111,10 @@ struct EvolveConfig {
     /// The treatment a run file records (`run.treatment`): the shaping
     /// treatment, or its seeded twin (seed-sum, ...) when the run is seeded.
     Treatment run_treatment() const { return seeding() ? seeded(treatment()) : treatment(); }
-    /// The sine, cosine and power of the run (the JSON's "math", default "libm"):
-    /// the task's and the mutation's, kept equal.
+    /// The sine, cosine and power of the run (the JSON's "math"): the task's and
+    /// the mutation's, kept equal. Absent from a user config: "portable"; absent
+    /// from a stored config: "libm" (to_json() leaves libm out, as every run file
+    /// made before portable became the default holds it).
     Math math() const { return task.math; }
     void set_math(Math math) {
         task.math = math;
@@ -118,7 +130,8 @@ struct EvolveConfig {
     /// task.arena names an arena file (relative to `folder`, else to the working
     /// directory) or holds the arena itself (sim::ArenaSpec::from_json).
     static EvolveConfig from_json(const nlohmann::json& json, const std::string& source = "config",
-                                  const std::filesystem::path& folder = {});
+                                  const std::filesystem::path& folder = {},
+                                  ConfigOrigin origin = ConfigOrigin::user);
     /// Reads and parses a config file; a relative transfer.kb,
     /// transfer.seed.from or task.arena is taken relative to the file's folder.
     static EvolveConfig load(const std::filesystem::path& path);
@@ -126,7 +139,13 @@ struct EvolveConfig {
     /// The effective config as stored with the run: every key with its value,
     /// the seed included, `ea.generations` excluded (it is the run's own
     /// column, so a run can be extended on resume).
+    /// "math" is written only when portable, so that the stored configs of
+    /// libm runs are what they were before the key existed (digests included):
+    /// read it back with ConfigOrigin::stored.
     nlohmann::json to_json() const;
+    /// to_json() with "math" always written: a config file that another
+    /// process reads as a user config (a campaign's step configs).
+    nlohmann::json to_file_json() const;
 };
 
 }  // namespace stepstone::runs

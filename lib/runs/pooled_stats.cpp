@@ -8,6 +8,7 @@
 
 #include "core/error.hpp"
 #include "core/text.hpp"
+#include "runs/csv_reader.hpp"
 #include "stats/summary.hpp"
 
 namespace stepstone::runs {
@@ -29,23 +30,24 @@ struct Line {
 };
 
 std::vector<Line> read_csv(const fs::path& file, std::string_view header) {
-    std::ifstream in(file);
-    if (!in) throw DataError(concat(file.string(), ": cannot be read"));
-    std::string text;
-    if (!std::getline(in, text) || text != header) {
+    const auto records = read_csv_records(file);
+    const auto names = records.empty() ? std::vector<std::string>{} : records.front().fields;
+    const std::string expected(header);
+    std::string first;
+    for (std::size_t i = 0; i < names.size(); ++i) first += (i ? "," : "") + names[i];
+    if (first != expected) {
+        if (!names.empty() && names.front().empty() && first.substr(1) == expected) {
+            throw DataError(concat(file.string(),
+                                   ": its first column has no name (row names, as R's write.csv adds them: "
+                                   "write it with row.names = FALSE)"));
+        }
         throw DataError(
             concat(file.string(), ": not the expected CSV (its first line should be '", header, "')"));
     }
-    const std::size_t columns = std::count(header.begin(), header.end(), ',') + 1;
+    const std::size_t columns = names.size();
     std::vector<Line> lines;
-    for (std::size_t n = 2; std::getline(in, text); ++n) {
-        if (text.empty()) continue;
-        Line line{concat(file.string(), " line ", n), {}};
-        std::size_t from = 0;
-        for (std::size_t comma; (comma = text.find(',', from)) != std::string::npos; from = comma + 1) {
-            line.fields.push_back(text.substr(from, comma - from));
-        }
-        line.fields.push_back(text.substr(from));
+    for (std::size_t r = 1; r < records.size(); ++r) {
+        Line line{concat(file.string(), " line ", records[r].line), records[r].fields};
         if (line.fields.size() != columns) {
             throw DataError(concat(line.where, ": ", line.fields.size(), " fields, expected ", columns));
         }
@@ -81,7 +83,9 @@ RunRow parse_run(const Line& line) {
     row.best_reward = parse_number<double>(line, 3, "best_reward");
     row.policies = parse_number<std::int64_t>(line, 5, "policies");
     row.ball_policies = parse_number<std::int64_t>(line, 6, "ball_policies");
-    if (!line.fields[7].empty()) row.mean_r_max = parse_number<double>(line, 7, "mean_r_max");
+    // empty where no KB shaped the run; R writes NA for it
+    if (!line.fields[7].empty() && line.fields[7] != "NA")
+        row.mean_r_max = parse_number<double>(line, 7, "mean_r_max");
     if (row.generation < 0 || !(row.best_reward >= 0.0 && row.best_reward <= 1.0) || row.policies < 0 ||
         row.ball_policies < 0 || row.ball_policies > row.policies) {
         throw DataError(concat(line.where,

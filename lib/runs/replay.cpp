@@ -19,7 +19,8 @@ ReplaySetup prepare_replay(const std::filesystem::path& db_path, const std::stri
     auto connection = db::open_database(db_path, db::OpenMode::read_only);
     const RunRecord run = load_run(connection);
     // the stored config names every value, so no default of this program enters the replay
-    const EvolveConfig config = EvolveConfig::from_json(run.config, db_path.string() + " (stored config)");
+    const EvolveConfig config =
+        EvolveConfig::from_json(run.config, db_path.string() + " (stored config)", {}, ConfigOrigin::stored);
     return prepare_replay(connection, run, config, individual);
 }
 

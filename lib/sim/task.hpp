@@ -37,8 +37,9 @@ struct TaskConfig {
     int grid_period = 50;        ///< steps between two diversity-grid samples of the first start
     /// The arena (walls, door, balls, switch, basket, start poses); null: the paper's.
     std::shared_ptr<const ArenaSpec> arena{};
-    /// The sine and cosine of the odometry and sensors (set from a run config's "math").
-    Math math = Math::libm;
+    /// The sine and cosine of the odometry and sensors (set from a run config's "math"):
+    /// stepstone's own by default, one answer on every machine (core/portable_math.hpp).
+    Math math = Math::portable;
 
     /// The arena, the paper's when none is set.
     const ArenaSpec& arena_spec() const { return arena ? *arena : paper_arena(); }

@@ -6,6 +6,7 @@
 
 #include "core/error.hpp"
 #include "core/text.hpp"
+#include "stats/detail/event_times.hpp"
 
 namespace stepstone::stats {
 
@@ -15,38 +16,8 @@ namespace {
 constexpr double kZ95 = 1.959963984540054;
 constexpr int kMaxIterations = 100;
 
-// One distinct time at which at least one event happened: the subjects of each
-// sample still followed then (at risk: time >= t) and those whose event it is.
-struct EventTime {
-    double at_risk_a = 0, at_risk_b = 0;
-    double events_a = 0, events_b = 0;
-};
-
-std::vector<EventTime> event_times(const Survival& a, const Survival& b) {
-    struct Entry {
-        double time;
-        bool first;
-        bool observed;
-    };
-    std::vector<Entry> pooled;
-    for (std::size_t i = 0; i < a.time.size(); ++i) pooled.push_back({a.time[i], true, a.observed[i] == 1});
-    for (std::size_t i = 0; i < b.time.size(); ++i) pooled.push_back({b.time[i], false, b.observed[i] == 1});
-    std::stable_sort(pooled.begin(), pooled.end(),
-                     [](const Entry& x, const Entry& y) { return x.time < y.time; });
-    std::vector<EventTime> times;
-    double n_a = static_cast<double>(a.time.size());
-    double n_b = static_cast<double>(b.time.size());
-    for (std::size_t k = 0; k < pooled.size();) {
-        const double t = pooled[k].time;
-        EventTime here{n_a, n_b, 0, 0};
-        for (; k < pooled.size() && pooled[k].time == t; ++k) {
-            (pooled[k].first ? n_a : n_b) -= 1;
-            if (pooled[k].observed) (pooled[k].first ? here.events_a : here.events_b) += 1;
-        }
-        if (here.events_a + here.events_b > 0) times.push_back(here);
-    }
-    return times;
-}
+using detail::event_times;
+using detail::EventTime;
 
 // The log partial likelihood l(beta), its derivative (the score U) and minus its
 // second derivative (the information I).

@@ -6,6 +6,7 @@
 
 #include "core/error.hpp"
 #include "core/text.hpp"
+#include "stats/detail/event_times.hpp"
 
 namespace stepstone::stats {
 
@@ -115,41 +116,16 @@ double chi2_1_sf(double x) {
 LogRank log_rank(const Survival& a, const Survival& b) {
     check_survival("log_rank", "a", a);
     check_survival("log_rank", "b", b);
-    // pooled times, each with its sample; walk the distinct times in order
-    struct Entry {
-        double time;
-        bool first;
-        bool observed;
-    };
-    std::vector<Entry> pooled;
-    for (std::size_t i = 0; i < a.time.size(); ++i) pooled.push_back({a.time[i], true, a.observed[i] == 1});
-    for (std::size_t i = 0; i < b.time.size(); ++i) pooled.push_back({b.time[i], false, b.observed[i] == 1});
-    std::stable_sort(pooled.begin(), pooled.end(),
-                     [](const Entry& x, const Entry& y) { return x.time < y.time; });
-
+    // the distinct event times in order, with each sample's risk set
     LogRank result;
-    double n_a = static_cast<double>(a.time.size());
-    double n = static_cast<double>(pooled.size());
-    for (std::size_t k = 0; k < pooled.size();) {
-        const double t = pooled[k].time;
-        double d = 0, d_a = 0, leaving = 0, leaving_a = 0;
-        for (; k < pooled.size() && pooled[k].time == t; ++k) {
-            leaving += 1;
-            if (pooled[k].first) leaving_a += 1;
-            if (pooled[k].observed) {
-                d += 1;
-                if (pooled[k].first) d_a += 1;
-            }
-        }
-        if (d > 0) {
-            const double share = n_a / n;
-            result.expected_a += d * share;
-            if (n > 1) result.variance += d * share * (1.0 - share) * (n - d) / (n - 1.0);
-        }
-        result.events_a += static_cast<std::size_t>(d_a);
-        result.events_b += static_cast<std::size_t>(d - d_a);
-        n -= leaving;
-        n_a -= leaving_a;
+    for (const auto& t : detail::event_times(a, b)) {
+        const double n = t.at_risk_a + t.at_risk_b;
+        const double d = t.events_a + t.events_b;
+        const double share = t.at_risk_a / n;
+        result.expected_a += d * share;
+        if (n > 1) result.variance += d * share * (1.0 - share) * (n - d) / (n - 1.0);
+        result.events_a += static_cast<std::size_t>(t.events_a);
+        result.events_b += static_cast<std::size_t>(t.events_b);
     }
     const double diff = static_cast<double>(result.events_a) - result.expected_a;
     result.chi2 = result.variance > 0 ? diff * diff / result.variance : 0.0;

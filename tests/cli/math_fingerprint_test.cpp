@@ -43,8 +43,9 @@ std::string fingerprint_of(const test::CliResult& version) {
     return version.out.substr(at + marker.size(), 16);
 }
 
+// pinned to libm: the machine-dependent math whose fingerprint these tests follow
 const char* kTiny = R"({"task": {"kind": "source", "steps_per_start": 100, "starts": 1},
-  "ea": {"population_size": 8, "generations": 2}})";
+  "ea": {"population_size": 8, "generations": 2}, "math": "libm"})";
 
 }  // namespace
 
@@ -145,8 +146,10 @@ TEST_CASE("a replay that misses its stored reward names a run made by another ma
                               Contains("math library rounds differently: math fingerprint 00000000000000ff"));
 }
 
-TEST_CASE("a run on portable math gives the same digest under either math library, where on libm it may not",
-          "[cli][determinism]") {
+TEST_CASE(
+    "a run on portable math, the default, gives the same digest under either math library, where on libm it "
+    "may not",
+    "[cli][determinism]") {
     if (!cpu_has_fma()) {
         WARN("this CPU lacks FMA or AVX2: glibc has no other build to compare with");
         return;
@@ -155,8 +158,9 @@ TEST_CASE("a run on portable math gives the same digest under either math librar
     // seed 6 of this config is one whose libm runs differ between glibc's builds (found by trying seeds 1-6)
     const std::string config = R"({"task": {"kind": "source", "steps_per_start": 1000, "starts": 1},
       "ea": {"population_size": 16, "generations": 8}, "seed": 6)";
-    test::write_file(dir / "libm.json", config + "}");
+    test::write_file(dir / "libm.json", config + R"(, "math": "libm"})");
     test::write_file(dir / "portable.json", config + R"(, "math": "portable"})");
+    test::write_file(dir / "default.json", config + "}");
     const auto digests = [&](const std::string& name) {
         const auto args = [&](const std::string& db) {
             return std::vector<std::string>{"evolve", "--config",          (dir / (name + ".json")).string(),
@@ -173,6 +177,10 @@ TEST_CASE("a run on portable math gives the same digest under either math librar
     CHECK(portable.first.size() == 33);
     CHECK(portable.first == portable.second);
     CHECK(portable.first != libm.first);
+    // a config that names no math is portable: one digest on both machines, the portable one
+    const auto by_default = digests("default");
+    CHECK(by_default.first == portable.first);
+    CHECK(by_default.second == portable.first);
 
     // resumed on the other machine, a portable run has nothing to warn about
     const auto resumed = run_elsewhere(

@@ -160,7 +160,9 @@ TEST_CASE(
         return;
     }
     test::TempDir dir;
-    test::write_file(dir / "source.json", kSource);
+    std::string libm = kSource;  // the machine's own math: what a mixed job must refuse
+    libm.insert(libm.rfind('}'), R"(, "math": "libm")");
+    test::write_file(dir / "source.json", libm);
     const std::vector<std::string> args{"evolve",
                                         "--config",
                                         (dir / "source.json").string(),

@@ -5,6 +5,7 @@ per-step CSV of `stepstone simulate`."""
 import csv
 import json
 import os
+import pathlib
 import sqlite3
 import tempfile
 import unittest
@@ -104,6 +105,19 @@ class Runs(unittest.TestCase):
         cls.sql.close()
         cls._dir.cleanup()
 
+    def test_paths_may_be_pathlib_paths(self):
+        path = pathlib.Path(self.path)
+        self.assertEqual(stepstone.Run(path).seed, self.stored.seed)
+        kb = stepstone.KnowledgeBase.open(path)
+        with tempfile.TemporaryDirectory() as folder:
+            kb.save(pathlib.Path(folder) / "kb.db")
+            self.assertEqual(len(stepstone.KnowledgeBase.open(pathlib.Path(folder) / "kb.db")), len(kb))
+        here = pathlib.Path(__file__).resolve().parent
+        arena = here.parent.parent / "examples" / "arenas" / "two_rooms.json"
+        self.assertEqual(stepstone.Task("target", arena=arena).arena["target_ball"], 5)
+        with self.assertRaises(stepstone.DatabaseError):
+            stepstone.Run(pathlib.Path(folder) / "missing.db")
+
     def test_the_run_row(self):
         run = self.stored
         self.assertEqual((run.task, run.treatment, run.seed, run.status), ("source", "none", 1, "finished"))
@@ -132,7 +146,7 @@ class Runs(unittest.TestCase):
         self.assertEqual(len(self.stored.generations_frame()), 5)
 
     def test_stored_genomes_evaluate_to_their_stored_rewards(self):
-        task = stepstone.Task(**self.stored.config["task"])
+        task = stepstone.Task(**self.stored.config["task"], math=self.stored.config.get("math", "libm"))
         rows = self.sql.execute("SELECT g.individual_id, i.reward, i.balls, i.steps FROM genome g "
                                 "JOIN individual i ON i.id = g.individual_id WHERE i.generation = 3").fetchall()
         self.assertGreater(len(rows), 0)

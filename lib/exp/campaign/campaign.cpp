@@ -3,6 +3,7 @@
 #include <optional>
 
 #include "core/error.hpp"
+#include "core/portable_math.hpp"
 #include "core/text.hpp"
 #include "core/writer_lock.hpp"
 #include "db/database.hpp"
@@ -37,7 +38,17 @@ void check_campaign_dir(const CampaignOptions& options) {
 }
 
 // campaign.db for a new campaign; for a resumed one, the stored config must be the given one
-runs::CampaignIndex open_campaign(const CampaignOptions& options, const runs::CampaignConfig& config) {
+// A step whose config names no math keeps the math the campaign was made with: its stored
+// step config holds "math" when portable and nothing when libm (every campaign made before
+// portable became the default).
+void inherit_math(runs::RunStep& step, const nlohmann::json& stored_step) {
+    if (step.config.math_given || !stored_step.is_object() || !stored_step.contains("config")) return;
+    const auto& stored = stored_step["config"];
+    const std::string name = stored.is_object() ? stored.value("math", "libm") : "libm";
+    if (const auto math = parse_math(name)) step.config.set_math(*math);
+}
+
+runs::CampaignIndex open_campaign(const CampaignOptions& options, runs::CampaignConfig& config) {
     const fs::path campaign_path = options.dir / runs::kCampaignFile;
     if (!options.resume) {
         if (fs::exists(campaign_path)) throw already_a_campaign(options.dir);  // checked again under the lock
@@ -50,6 +61,8 @@ runs::CampaignIndex open_campaign(const CampaignOptions& options, const runs::Ca
     auto index = runs::load_campaign(options.dir);
     // campaigns made before kb.file was stored as given hold its absolute path: the same file
     auto stored = index.config;
+    if (config.source && stored.contains("source")) inherit_math(*config.source, stored["source"]);
+    if (stored.contains("target")) inherit_math(config.target, stored["target"]);
     if (stored.contains("kb") && stored["kb"].contains("file") && stored["kb"]["file"].is_string() &&
         fs::path(stored["kb"]["file"].get<std::string>()) == config.kb_file) {
         stored["kb"]["file"] = config.kb_file_given;
@@ -79,7 +92,7 @@ void throw_on_failures(const CampaignSummary& summary, const fs::path& dir, std:
 
 CampaignSummary run_campaign(const CampaignOptions& given) {
     const CampaignOptions& options = given;
-    const runs::CampaignConfig config = runs::CampaignConfig::load(options.config_path);
+    runs::CampaignConfig config = runs::CampaignConfig::load(options.config_path);
     check_campaign_dir(options);
     fs::create_directories(options.dir);
     const WriterLock lock(options.dir / runs::kCampaignFile);  // one campaign process per folder

@@ -115,7 +115,7 @@ void probe_generations(const runs::EvolveConfig& config, const fs::path& folder,
     probe.transfer.reset();
     probe.seed = 1;
     const fs::path config_path = folder / (name + ".json");
-    std::ofstream(config_path) << probe.to_json().dump();
+    std::ofstream(config_path) << probe.to_file_json().dump();
     EvolveOptions options;
     options.config_path = config_path;
     options.db_path = folder / (name + ".db");
