@@ -8,6 +8,7 @@
 #include "commands.hpp"
 #include "core/error.hpp"
 #include "core/mpi.hpp"
+#include "core/text.hpp"
 #include "evolve_flags.hpp"
 #include "exp/campaign/campaign.hpp"
 #include "exp/campaign/campaign_mpi.hpp"
@@ -52,7 +53,14 @@ void run_campaign_command(const CampaignFlags& flags) {
         leader.emplace(*session);
         options.mpi = &*leader;
     }
-    const auto summary = exp::run_campaign(options);
+    const auto summary = [&] {
+        try {
+            return exp::run_campaign(options);
+        } catch (const Interrupted& e) {
+            throw Interrupted(
+                concat(e.what(), " (stepstone campaign ", flags.config, " --dir ", flags.dir, " --resume)"));
+        }
+    }();
     std::cout << "runs " << summary.runs << "\n"
               << "finished " << summary.finished << "\n"
               << "already_finished " << summary.skipped << "\n"

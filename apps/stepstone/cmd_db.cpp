@@ -68,6 +68,12 @@ void run_db_migrate(const std::string& file) {
     {
         auto connection = db::open_database(file, db::OpenMode::read_only, /*allow_older=*/true);
         before = db::database_info(connection).schema_version;
+        // a damaged file is not "up to date": migrating it would only hide the damage
+        const std::string integrity = db::integrity_check(connection);
+        if (integrity != "ok") {
+            throw DataError(concat(file, ": fails SQLite's integrity check (", one_line(integrity),
+                                   "); not migrated; restore it from a copy, or rerun what wrote it"));
+        }
     }
     const WriterLock lock(file);  // not while evolve or a campaign writes it
     auto connection = db::open_database(file, db::OpenMode::read_write);

@@ -75,7 +75,9 @@ void run_demo(const DemoFlags& flags) {
     std::cout
         << "   a demo is one small sample (a few seeds, a few dozen generations): it shows the machinery,\n"
            "   not whether the KB helps. What the pre-registered experiments can and cannot say is in\n"
-           "   docs/results.md (sections 9 and 10).\n";
+           "   docs/results.md (sections 9 to 12): shaping on the target task at the paper's horizon (L), "
+           "and\n"
+           "   starting the target search from the source run's policies (E4, evolve --seed-from).\n";
     std::cout << "   query the runs with SQL: sqlite3 " << (camp / "campaign.db").string()
               << " 'SELECT file, best_reward FROM campaign_run'" << std::endl;
 

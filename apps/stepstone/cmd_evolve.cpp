@@ -7,6 +7,7 @@
 #include "commands.hpp"
 #include "core/error.hpp"
 #include "core/mpi.hpp"
+#include "core/text.hpp"
 #include "evolve_flags.hpp"
 #include "exp/evolution.hpp"
 #include "exp/mpi_evolve.hpp"
@@ -31,7 +32,14 @@ void run_evolve_command(const EvolveFlags& flags) {
         leader.emplace(*session);
         options.mpi = &*leader;
     }
-    const auto summary = exp::run_evolve(options);
+    const auto summary = [&] {
+        try {
+            return exp::run_evolve(options);
+        } catch (const Interrupted& e) {
+            // the whole command that resumes, as the README promises
+            throw Interrupted(concat(e.what(), " (stepstone evolve --db ", flags.db, " --resume)"));
+        }
+    }();
     if (summary.was_finished) {
         std::cerr << flags.db << ": already at generation " << summary.generations_done << ", nothing to do\n";
     }

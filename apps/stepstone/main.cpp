@@ -231,6 +231,15 @@ std::string kernels() {
 
 }  // namespace
 
+// CLI11's own wording of an option given more times than it takes, in the
+// project's words ("" when `what` is another message)
+static std::string plain_parse_error(const std::string& what) {
+    const std::string marker = ": At Most 1 required but received ";
+    const auto at = what.find(marker);
+    if (at == std::string::npos) return "";
+    return what.substr(0, at) + ": given " + what.substr(at + marker.size()) + " times; give it once";
+}
+
 int main(int argc, char** argv) {
     CLI::App app{"stepstone: transfer learning for evolutionary robotics by reward shaping"};
     // the math library's fingerprint (core/math_fingerprint.hpp), computed only when asked
@@ -253,6 +262,7 @@ int main(int argc, char** argv) {
             unknown = unknown_option(app, argc, argv);
             if (unknown.empty()) unknown = unexpected_arguments(e.what(), command_of(app, argc, argv).second);
         }
+        if (unknown.empty()) unknown = plain_parse_error(e.what());
         return fail(unknown.empty() ? std::string(e.what()) : unknown, kExitUsage);
     } catch (const stepstone::Interrupted& e) {
         std::cerr << "stepstone: interrupted: " << stepstone::one_line(as_flags(e.what())) << std::endl;

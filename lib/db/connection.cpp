@@ -75,8 +75,21 @@ std::string hint_for(sqlite3* db) {
 
 }  // namespace
 
+namespace {
+
+// SQLite quotes the text near a syntax error, which in a damaged schema can be a
+// whole statement: an error line keeps the first 160 characters of it
+std::string clipped(std::string text) {
+    constexpr std::size_t kLongest = 160;
+    if (text.size() > kLongest) text = text.substr(0, kLongest) + "... (cut)";
+    return text;
+}
+
+}  // namespace
+
 void Connection::fail(std::string_view context) const {
-    throw DatabaseError(concat(name(), ": ", context, ": ", db_ ? sqlite3_errmsg(db_) : "closed", hint_for(db_)));
+    throw DatabaseError(
+        concat(name(), ": ", context, ": ", clipped(db_ ? sqlite3_errmsg(db_) : "closed"), hint_for(db_)));
 }
 
 void Connection::exec(std::string_view sql) {
@@ -85,7 +98,7 @@ void Connection::exec(std::string_view sql) {
     if (sqlite3_exec(db_, text.c_str(), nullptr, nullptr, &error) != SQLITE_OK) {
         std::string message = error ? error : sqlite3_errmsg(db_);
         sqlite3_free(error);
-        throw DatabaseError(concat(name(), ": ", one_line(message), hint_for(db_)));
+        throw DatabaseError(concat(name(), ": ", clipped(one_line(message)), hint_for(db_)));
     }
 }
 

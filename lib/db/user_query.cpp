@@ -41,15 +41,32 @@ std::vector<std::string> parameters_of(std::string_view sql) {
     return names;
 }
 
+// where the first sentence of `text` ends: the first ". " that does not close an
+// abbreviation ("Fig. 5", "e.g. ", "cf. "); npos if none does
+std::size_t sentence_end(const std::string& text) {
+    static constexpr std::string_view kAbbreviations[] = {"Fig", "Figs", "e.g", "i.e",
+                                                          "cf",  "vs",   "Eq",  "Sec"};
+    for (std::size_t stop = text.find(". "); stop != std::string::npos; stop = text.find(". ", stop + 1)) {
+        const std::size_t space = text.rfind(' ', stop);
+        const std::size_t from = space == std::string::npos ? 0 : space + 1;
+        std::string_view word(text.data() + from, stop - from);
+        if (!word.empty() && word.front() == '(') word.remove_prefix(1);
+        if (std::find(std::begin(kAbbreviations), std::end(kAbbreviations), word) == std::end(kAbbreviations))
+            return stop;
+    }
+    return std::string::npos;
+}
+
 // the first sentence of the leading "-- " comment, its lines joined (up to the
-// first ". " or a line ending in "." or ":"; the whole comment if none does)
+// first ". " that ends a sentence or a line ending in "." or ":"; the whole
+// comment if none does)
 std::string summary_of(std::string_view sql) {
     std::string text;
     while (sql.substr(0, 3) == "-- ") {
         const auto end = std::min(sql.find('\n'), sql.size());
         const std::string_view line = sql.substr(3, end - 3);
         text += (text.empty() ? "" : " ") + std::string(line);
-        if (const auto stop = text.find(". "); stop != std::string::npos) return text.substr(0, stop + 1);
+        if (const auto stop = sentence_end(text); stop != std::string::npos) return text.substr(0, stop + 1);
         if (line.ends_with(".") || line.ends_with(":")) break;
         sql = sql.substr(std::min(end + 1, sql.size()));
     }

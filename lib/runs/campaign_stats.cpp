@@ -296,7 +296,8 @@ void write_text(std::ostream& out, const CampaignStats& stats, Milestone event) 
     out << "\n";
     write_treatment_tables(
         out, stats.treatments,
-        concat("mean over runs of the mean r_max of generations ", stats.signal_from, "-", stats.generation),
+        concat("mean over runs of the mean r_max of generations ", stats.signal_from, "-", stats.generation,
+               "; raw averages, not divided by the KB's largest as the report's figure is"),
         stats.generation);
     out << "\nsuccessful runs by generation\n";
     std::snprintf(line, sizeof line, "%-10s", "generation");

@@ -86,6 +86,7 @@ TEST_CASE(
     REQUIRE(first.err_lines().size() == 1);
     CHECK_THAT(first.err_lines()[0], StartsWith("stepstone: interrupted: " + run.string()));
     CHECK_THAT(first.err_lines()[0], Contains("continue with --resume"));
+    CHECK_THAT(first.err_lines()[0], Contains("(stepstone evolve --db " + run.string() + " --resume)"));
     CHECK(seconds < 1.5);
     // every committed generation is in the main file: nothing beside it
     CHECK_FALSE(fs::exists(run.string() + "-wal"));
@@ -350,7 +351,8 @@ TEST_CASE("the README's sqlite3 saliency example prints a header and rows", "[cl
     CHECK_THAT(salient, StartsWith("kb_segment_id|"));
 }
 
-TEST_CASE("db info says a file fails SQLite's integrity check and leaves it as it was", "[cli][harden][db]") {
+TEST_CASE("db info and db migrate say a file fails SQLite's integrity check and leave it as it was",
+          "[cli][harden][db]") {
     test::TempDir dir;
     test::write_file(dir / "c.json", kSlowConfig);
     REQUIRE(test::run_cli({"evolve", "--config", (dir / "c.json").string(), "--db", (dir / "run.db").string(),
@@ -378,6 +380,10 @@ TEST_CASE("db info says a file fails SQLite's integrity check and leaves it as i
     check_refused(test::run_cli({"db", "info", (dir / "damaged.db").string()}), 1,
                   "fails SQLite's integrity check");
     CHECK(test::read_file(dir / "damaged.db") == damaged);
+    // nor is it "up to date" for db migrate, which leaves it as it was
+    check_refused(test::run_cli({"db", "migrate", (dir / "damaged.db").string()}), 1,
+                  "fails SQLite's integrity check");
+    CHECK(test::read_file(dir / "damaged.db") == damaged);
 }
 
 TEST_CASE("a thread count of 0 is refused by evolve and kb calibrate in one line (1 to 1024)",
@@ -393,4 +399,22 @@ TEST_CASE("a thread count of 0 is refused by evolve and kb calibrate in one line
                 .exit_code == 0);
     check_refused(test::run_cli({"kb", "calibrate", (dir / "run.db").string(), "--threads", "0"}), 2,
                   "--threads");
+}
+
+TEST_CASE("a schema damaged into a long token is one short line, not the token", "[cli][harden][db]") {
+    test::TempDir dir;
+    kbtest::make_run(dir / "run.db");
+    REQUIRE(test::run_cli({"kb", "export", (dir / "run.db").string(), "--out", (dir / "kb.db").string()})
+                .exit_code == 0);
+    // a table's stored CREATE statement cut into an unterminated 600-character identifier
+    std::string token(600, 'a');
+    test::raw_exec(dir / "kb.db",
+                   "PRAGMA writable_schema = ON; UPDATE sqlite_schema SET sql = 'CREATE TABLE "
+                   "kb_source(a, \"" +
+                       token + " (x y z)' WHERE name = 'kb_source';");
+    const auto result = test::run_cli({"kb", "stats", (dir / "kb.db").string()});
+    CHECK(result.exit_code == 1);
+    REQUIRE(result.err_lines().size() == 1);
+    CHECK_THAT(result.err, Contains("malformed database schema (kb_source)"));
+    CHECK(result.err.size() < 300);  // SQLite's own message quoted the whole 600-character token
 }

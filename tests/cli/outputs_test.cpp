@@ -198,3 +198,12 @@ TEST_CASE("whole-number options refuse negative, fractional, exponent and out-of
     // the largest seed still goes through
     CHECK(test::run_cli(randomize("18446744073709551615")).exit_code == 0);
 }
+
+TEST_CASE("an option given twice is one line in the project's words, not CLI11's", "[cli][errors]") {
+    const auto result =
+        test::run_cli({"kb", "randomize", "a.db", "--out", "b.db", "--seed", "1", "--seed", "2"});
+    CHECK(result.exit_code == 2);
+    CHECK(result.err_lines().size() == 1);
+    CHECK_THAT(result.err, Contains("--seed: given 2 times; give it once"));
+    CHECK_THAT(result.err, !Contains("At Most"));
+}

@@ -87,6 +87,9 @@ TEST_CASE("query runs a queries/ file with a header row, as the sqlite3 shell pr
                              "policy_saliency", "salient_positions", "salient_segments"}) {
         CHECK_THAT(result.out, Contains(std::string(name) + ": "));
     }
+    // a description runs to the end of its first sentence, past "Fig. 5" (queries/policy_saliency.sql)
+    CHECK_THAT(result.out, Contains("(the paper's Fig. 5): for each segment of a stored policy, the average "
+                                    "reward of the KB segment it matched."));
 }
 
 TEST_CASE("query checks its parameters and names the problem", "[cli][query][errors]") {

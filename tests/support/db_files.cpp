@@ -12,8 +12,6 @@
 
 namespace stepstone::test {
 
-namespace {
-
 // raw SQLite, bypassing every stepstone check
 void raw_exec(const std::filesystem::path& path, const std::string& sql) {
     sqlite3* db = nullptr;
@@ -25,8 +23,6 @@ void raw_exec(const std::filesystem::path& path, const std::string& sql) {
     sqlite3_close(db);
     if (rc != SQLITE_OK) throw std::runtime_error("raw exec failed: " + message);
 }
-
-}  // namespace
 
 void make_stepstone_db(const std::filesystem::path& path) {
     auto connection = db::open_database(path, db::OpenMode::create);

@@ -7,6 +7,9 @@ namespace stepstone::test {
 
 // Builders of the bad database files that every command must refuse.
 
+/// Runs `sql` on `path` with raw SQLite, bypassing every stepstone check.
+void raw_exec(const std::filesystem::path& path, const std::string& sql);
+
 /// A valid stepstone database (current schema) with a few meta rows.
 void make_stepstone_db(const std::filesystem::path& path);
 /// An SQLite database of another application (application_id 0, one table).
