@@ -20,6 +20,11 @@ private:
     int status_;
 };
 
+/// The largest --max-body: 1 GiB (a request's memory is a few times its body, docs/service.md).
+inline constexpr std::size_t kMaxBodyLimit = std::size_t{1} << 30;
+/// Bodies of --max-body bytes that the server receives or works on at once; more get 503.
+inline constexpr std::size_t kBodiesAtOnce = 2;
+
 /// Limits on what one request may ask.
 struct Limits {
     std::size_t max_body_bytes = 64u << 20;  ///< larger bodies get 413
@@ -95,7 +100,7 @@ struct ServeOptions {
     std::string bind = "127.0.0.1";
     int port = 8080;       ///< 0: any free port
     unsigned threads = 0;  ///< requests doing KB work at once; 0 = every core (at least 2)
-    unsigned connections = 64;  ///< connections served at once (one thread each); more wait to be accepted
+    unsigned connections = 64;  ///< connections open at once; more wait to be accepted
     bool writable = false;
     std::filesystem::path token_file;  ///< bearer token; required by --writable and a non-loopback --bind
     double timeout_seconds = 30.0;     ///< one request, from its first byte to its answer's last
@@ -126,10 +131,13 @@ private:
 
 /// Serves `options.input` until SIGINT or SIGTERM: then stops accepting,
 /// finishes the requests in flight (their observations committed) and
-/// returns. Prints "listening on http://HOST:PORT" on stdout once bound.
+/// returns. Prints "listening on URL" (url_of) on stdout once bound.
 /// Throws ConfigError for unsafe or bad options (before binding), Error when
 /// the port cannot be bound.
 void serve(const ServeOptions& options);
+
+/// http://HOST:PORT, an IPv6 address bracketed: http://[::1]:8080.
+std::string url_of(const std::string& host, int port);
 
 /// True for 127.0.0.0/8, ::1 and "localhost".
 bool is_loopback(const std::string& host);
