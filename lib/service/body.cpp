@@ -35,6 +35,7 @@ constexpr std::size_t kSlotCost = 32;
 constexpr std::size_t kMemberCost = 128;
 constexpr std::size_t kStringCost = 96;
 constexpr std::size_t kNodeCost = 80;
+constexpr std::size_t kPackedCost = 48;  // a packed row's or matrix's container, beside its bytes
 // a body this large reserves its matrices' room (pages the system gives only once written)
 constexpr std::size_t kReserveFrom = std::size_t{1} << 20;
 
@@ -110,11 +111,11 @@ public:
                 }
                 json::binary_t::container_type bytes;
                 append_bytes(bytes, frame.row);
-                charge(kNodeCost);
+                charge(kNodeCost + kPackedCost);
                 return add(json::binary(std::move(bytes)));
             }
             case Mode::matrix:
-                charge(kNodeCost);
+                charge(kNodeCost + kPackedCost);
                 return add(json::binary(std::move(frame.matrix), frame.width));
             case Mode::generic:
                 break;
@@ -198,7 +199,7 @@ private:
         } else if (frame.mode == Mode::matrix) {
             const std::size_t row_bytes = frame.width * sizeof(float);
             for (std::size_t at = 0; at < frame.matrix.size(); at += row_bytes) {
-                charge(kNodeCost + kSlotCost);
+                charge(kNodeCost + kPackedCost + kSlotCost);
                 frame.value.push_back(json::binary(json::binary_t::container_type(
                     frame.matrix.begin() + static_cast<std::ptrdiff_t>(at),
                     frame.matrix.begin() + static_cast<std::ptrdiff_t>(at + row_bytes))));

@@ -27,7 +27,7 @@ namespace stepstone::service {
 inline constexpr std::size_t kMaxDepth = 64;
 /// The DOM of a body of B bytes may take about kDomPerBodyByte * B + kDomSlack bytes (dom_budget):
 /// rows of numbers take 4 bytes a number (at least 2 bytes of text), other values more (a value
-/// 32 bytes or so, an object's member about 100).
+/// 32 bytes or so, a string or an object's member about 130 plus its text).
 inline constexpr std::size_t kDomPerBodyByte = 3;
 inline constexpr std::size_t kDomSlack = std::size_t{1} << 20;
 std::size_t dom_budget(std::size_t body_bytes);

@@ -102,6 +102,7 @@ struct BoundedServer::Impl {
 
     void accept();
     void begin_stop();
+    void watch_stop();
     bool reserve(std::size_t bytes) {
         if (held.fetch_add(bytes) + bytes <= bounds.body_budget) return true;
         held -= bytes;
@@ -129,6 +130,7 @@ struct BoundedServer::Impl {
     asio::io_context io{1};
     tcp::acceptor acceptor{io};
     asio::steady_timer retry{io}, grace{io};
+    std::chrono::steady_clock::time_point stop_since;
     asio::thread_pool workers;
 };
 
@@ -410,11 +412,25 @@ void BoundedServer::Impl::begin_stop() {
     for (const auto& weak : live) {
         if (const auto connection = weak.lock()) connection->on_stop();
     }
-    grace.expires_after(bounds.stop_grace);
-    grace.async_wait([this](beast::error_code) {
-        for (const auto& weak : live) {
-            if (const auto connection = weak.lock()) connection->close();
+    stop_since = std::chrono::steady_clock::now();
+    watch_stop();
+}
+
+// run() returns once no connection is left: looked at every 50 ms, and what is still open after
+// the grace (an answer still being written, a handler still running) is closed
+void BoundedServer::Impl::watch_stop() {
+    const bool late = std::chrono::steady_clock::now() - stop_since >= bounds.stop_grace;
+    bool left = false;
+    for (const auto& weak : live) {
+        if (const auto connection = weak.lock()) {
+            if (late) connection->close();
+            left = true;
         }
+    }
+    if (!left) return;
+    grace.expires_after(std::chrono::milliseconds(50));
+    grace.async_wait([this](beast::error_code ec) {
+        if (!ec) watch_stop();
     });
 }
 

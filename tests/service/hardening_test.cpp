@@ -150,3 +150,40 @@ TEST_CASE("serve --max-body out of range, negative or not a number is refused in
               std::string("stepstone: error: --max-body must be within 1 to 1073741824 bytes, got ") + value);
     }
 }
+
+TEST_CASE("bodies held at once are bounded: beyond twice --max-body a request gets 503", "[service]") {
+    test::TempDir dir;
+    reporttest::make_run(dir / "run.db");
+    ServerProcess server({(dir / "run.db").string(), "--max-body", "1000000"}, dir.path());
+    // two requests announce 900 kB bodies and send none of it: 1.8 MB held of the 2 MB allowed
+    std::vector<int> holding;
+    const std::string head = "POST /v1/kbs/run/lookup HTTP/1.1\r\nHost: x\r\nContent-Length: 900000\r\n\r\n";
+    for (int i = 0; i < 2; ++i) {
+        const int sock = ::socket(AF_INET, SOCK_STREAM, 0);
+        sockaddr_in address{};
+        address.sin_family = AF_INET;
+        address.sin_port = htons(static_cast<std::uint16_t>(server.port()));
+        address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+        REQUIRE(::connect(sock, reinterpret_cast<sockaddr*>(&address), sizeof address) == 0);
+        REQUIRE(::send(sock, head.data(), head.size(), MSG_NOSIGNAL) == static_cast<ssize_t>(head.size()));
+        holding.push_back(sock);
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    const auto refused = exchange(server.port(), head, 5.0);
+    CAPTURE(refused);
+    REQUIRE(refused.rfind("HTTP/1.1 503", 0) == 0);
+    CHECK(json::parse(body_of(refused))["error"] ==
+          "the server holds 1800000 bytes of request bodies (at most 2000000 at once): retry later");
+    // a request without a body needs none of it
+    httplib::Client client("127.0.0.1", server.port());
+    const auto health = client.Get("/healthz");
+    REQUIRE(health);
+    CHECK(health->status == 200);
+    for (const int sock : holding) ::close(sock);
+    // once they are gone, a body is taken again
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    const auto res = client.Post("/v1/kbs/run/lookup", "{\"segments\": []}", "application/json");
+    REQUIRE(res);
+    CHECK(res->status == 200);
+    CHECK(server.stop() == 0);
+}
