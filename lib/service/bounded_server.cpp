@@ -233,9 +233,12 @@ private:
             request_.headers.emplace_back(std::string(field.name_string()), std::string(field.value()));
         }
         route_ = nullptr;
+        // HEAD is GET without the body
+        head_ = request_.method == "HEAD";
+        const std::string method = head_ ? std::string("GET") : request_.method;
         for (const auto& route : server_.routes) {
             std::smatch match;
-            if (route.method == request_.method && std::regex_match(request_.path, match, route.pattern)) {
+            if (route.method == method && std::regex_match(request_.path, match, route.pattern)) {
                 for (const auto& group : match) request_.matches.push_back(group.str());
                 route_ = &route;
                 break;
@@ -321,6 +324,11 @@ private:
         answer_.body() = std::move(res.body);
         answer_.keep_alive(keep);
         answer_.prepare_payload();
+        if (head_) {
+            const auto length = answer_.body().size();
+            answer_.body().clear();
+            answer_.content_length(length);
+        }
         large_ = large_ || answer_.body().size() >= kLarge;
         phase_ = Phase::writing;
         http::async_write(stream_, answer_,
@@ -370,7 +378,7 @@ private:
     HttpRequest request_;
     const Route* route_ = nullptr;
     unsigned version_ = 11;
-    bool keep_alive_ = false, large_ = false;
+    bool keep_alive_ = false, large_ = false, head_ = false;
     std::size_t held_ = 0;
     unsigned served_ = 0;
     Phase phase_ = Phase::idle;

@@ -118,6 +118,12 @@ TEST_CASE("a body is read as JSON whatever its Content-Type, and Expect: 100-con
                                      std::to_string(body.size()) + "\r\n\r\n",
                                  0.5);
     CHECK(answer.rfind("HTTP/1.1 100 Continue\r\n", 0) == 0);
+    // HEAD: GET's status and length, no body (curl -I, probes)
+    const auto head = client.Head("/healthz");
+    REQUIRE(head);
+    CHECK(head->status == 200);
+    CHECK(head->get_header_value("Content-Length") == "15");
+    CHECK(head->body.empty());
     CHECK(server.stop() == 0);
 }
 
