@@ -38,7 +38,8 @@ void add_serve_command(CLI::App& app) {
     // read as text: CLI11 reads "-1" into an unsigned as its largest value
     auto max_body = std::make_shared<std::string>();
     cmd->add_option("--max-body", *max_body,
-                    "Largest request body in bytes, 1 to 1073741824 (default 67108864, 64 MiB)");
+                    "Largest request body in bytes, 1 to 1073741824 (default 67108864, 64 MiB)")
+        ->type_name("BYTES");
     cmd->footer(example({"stepstone serve demo-out/campaign --port 8080   # then open http://127.0.0.1:8080/",
                          "curl -s http://127.0.0.1:8080/v1/kbs",
                          "stepstone serve kb.db --writable --token-file token.txt --port 9000"}));
