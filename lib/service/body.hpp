@@ -17,13 +17,26 @@
 
 #include <cstddef>
 #include <nlohmann/json.hpp>
+#include <span>
 #include <string>
 #include <vector>
 
 namespace stepstone::service {
 
-/// Parses a body with its rows packed. Throws HttpError(400) for JSON that is
-/// malformed or holds a number beyond double's range.
+/// Arrays and objects nest at most this deep in a body.
+inline constexpr std::size_t kMaxDepth = 64;
+/// The DOM of a body of B bytes may take about kDomPerBodyByte * B + kDomSlack bytes (dom_budget):
+/// rows of numbers take 4 bytes a number (at least 2 bytes of text), other values more (a value
+/// 32 bytes or so, a string or an object's member about 130 plus its text).
+inline constexpr std::size_t kDomPerBodyByte = 3;
+inline constexpr std::size_t kDomSlack = std::size_t{1} << 20;
+std::size_t dom_budget(std::size_t body_bytes);
+
+/// Parses a body with its rows packed, as a stream of SAX events: nothing but
+/// the packed DOM is built. Throws HttpError(400) for JSON that is malformed,
+/// holds a number beyond double's range or nests deeper than kMaxDepth (as
+/// soon as the parser reaches that depth), and HttpError(413) as soon as the
+/// DOM would take more than dom_budget(body.size()).
 nlohmann::json parse_body(const std::string& body);
 
 /// How many rows `rows` has: a packed matrix's, or the array's size. 0 for anything else.
@@ -39,5 +52,11 @@ void read_row(const nlohmann::json& row, std::size_t expected, const std::string
 /// numbers; errors name row k as what[k].
 void read_rows(const nlohmann::json& rows, std::size_t width, const std::string& what,
                std::vector<float>& out);
+
+/// The numbers of `rows`, checked as read_rows does: a packed matrix is seen
+/// where it lies (no copy: valid while `rows` is), anything else is read into
+/// `storage` (cleared first) and seen there.
+std::span<const float> rows_view(const nlohmann::json& rows, std::size_t width, const std::string& what,
+                                 std::vector<float>& storage);
 
 }  // namespace stepstone::service

@@ -1,15 +1,14 @@
-// stepstone serve: the KB service over HTTP (cpp-httplib), until SIGINT or SIGTERM.
+// stepstone serve: the KB service over HTTP (service/bounded_server.hpp), until SIGINT or SIGTERM.
 
-#include <httplib.h>
+#include <malloc.h>
+#include <pthread.h>
 #include <signal.h>
-#include <sys/socket.h>
 
 #include <algorithm>
 #include <atomic>
 #include <charconv>
 #include <fstream>
 #include <iostream>
-#include <semaphore>
 #include <thread>
 
 #include "core/embedded.hpp"
@@ -30,15 +29,16 @@ namespace {
 using nlohmann::json;
 
 // invalid UTF-8 (a path with %ff, say) is replaced by U+FFFD rather than thrown
-void reply(httplib::Response& res, int status, const json& body) {
+void reply(HttpResponse& res, int status, const json& body) {
     res.status = status;
-    res.set_content(body.dump(-1, ' ', false, json::error_handler_t::replace), "application/json");
+    res.content_type = "application/json";
+    res.body = body.dump(-1, ' ', false, json::error_handler_t::replace);
 }
 
 // an error message echoes at most this many bytes of what the client sent
 constexpr std::size_t kMaxMessage = 300;
 
-void fail(httplib::Response& res, int status, const std::string& message) {
+void fail(HttpResponse& res, int status, const std::string& message) {
     const std::string bounded =
         message.size() <= kMaxMessage ? message : message.substr(0, kMaxMessage) + "... (message cut)";
     reply(res, status, {{"error", bounded}, {"status", status}});
@@ -56,7 +56,7 @@ std::string read_token(const std::filesystem::path& path) {
     return token;
 }
 
-std::uint64_t parse_count(const httplib::Request& req, const char* key, std::uint64_t fallback) {
+std::uint64_t parse_count(const HttpRequest& req, const char* key, std::uint64_t fallback) {
     if (!req.has_param(key)) return fallback;
     const auto text = req.get_param_value(key);
     std::uint64_t value = 0;
@@ -108,6 +108,10 @@ void check_options(const ServeOptions& options, const std::string& token) {
     if (options.connections < 1 || options.connections > 4096)
         throw ConfigError(
             concat(option_name("connections"), " must be within 1 to 4096, got ", options.connections));
+    if (options.limits.max_body_bytes < 1 || options.limits.max_body_bytes > kMaxBodyLimit) {
+        throw ConfigError(concat(option_name("max_body"), " must be within 1 to ", kMaxBodyLimit,
+                                 " bytes, got ", options.limits.max_body_bytes));
+    }
 }
 
 // the token of --token-file, once every option is checked (before anything is opened or bound)
@@ -124,35 +128,40 @@ std::chrono::milliseconds request_time(const ServeOptions& options) {
 // a kept-alive connection waits this long at most for its next request
 constexpr std::chrono::milliseconds kIdleTime{5000};
 
+ServerBounds bounds(const ServeOptions& options) {
+    ServerBounds out;
+    out.request_time = request_time(options);
+    out.idle_time = kIdleTime;
+    out.max_body = options.limits.max_body_bytes;
+    // two bodies of the largest size received or worked on at once; more wait for a 503's retry
+    out.body_budget = kBodiesAtOnce * options.limits.max_body_bytes;
+    out.connections = options.connections;
+    out.workers = work_threads(options);
+    return out;
+}
+
 }  // namespace
 
 struct HttpServer::Impl {
     explicit Impl(const ServeOptions& options)
         : token(checked_token(options)),
-          server(request_time(options), kIdleTime),
-          work_slots(work_threads(options)) {}
+          server(bounds(options), [](HttpResponse& res, int status, const std::string& message) {
+              fail(res, status, message);
+          }) {}
     std::string token;
     std::unique_ptr<KbService> service;
     BoundedServer server;
-    // requests doing KB work at once (--threads); connections waiting on a
-    // slow client hold none, and /healthz needs none
-    std::counting_semaphore<> work_slots;
     int port = -1;
 };
 
 namespace {
 
-// RAII: one of the work slots for the handler's time
-class WorkSlot {
-public:
-    explicit WorkSlot(std::counting_semaphore<>& slots) : slots_(slots) { slots_.acquire(); }
-    ~WorkSlot() { slots_.release(); }
-    WorkSlot(const WorkSlot&) = delete;
-    WorkSlot& operator=(const WorkSlot&) = delete;
-
-private:
-    std::counting_semaphore<>& slots_;
-};
+// a handler's body, parsed, then released: the DOM alone stays while the answer is computed
+json take_body(HttpRequest& req) {
+    auto parsed = parse_body(req.body);
+    std::string().swap(req.body);
+    return parsed;
+}
 
 }  // namespace
 
@@ -161,21 +170,13 @@ HttpServer::HttpServer(const ServeOptions& options) : impl_(std::make_unique<Imp
     impl_->service = std::make_unique<KbService>(options.input, options.writable, options.limits);
     KbService& service = *impl_->service;
     BoundedServer& server = impl_->server;
-    // one thread a connection: a slow client holds its thread, at most --timeout
-    const auto connections = options.connections;
-    server.new_task_queue = [connections] { return new httplib::ThreadPool(connections); };
-    server.set_keep_alive_max_count(100);
-    server.set_payload_max_length(options.limits.max_body_bytes);
-    // every /v1 request passes the token check, then the handler in a work slot; errors become JSON
-    using Handler = std::function<void(const httplib::Request&, httplib::Response&)>;
-    auto& slots = impl_->work_slots;
-    const auto guarded = [&token, &slots](Handler handler) {
-        return [handler, &token, &slots](const httplib::Request& req, httplib::Response& res) {
+    // every /v1 request passes the token check, then the handler on a worker; errors become JSON
+    const auto guarded = [&token](HttpHandler handler) {
+        return [handler, &token](HttpRequest& req, HttpResponse& res) {
             try {
-                if (!token.empty() && req.get_header_value("Authorization") != "Bearer " + token) {
+                if (!token.empty() && req.header("Authorization") != "Bearer " + token) {
                     throw HttpError(401, "missing or wrong bearer token (Authorization: Bearer <token>)");
                 }
-                const WorkSlot slot(slots);
                 handler(req, res);
             } catch (const HttpError& e) {
                 fail(res, e.status(), e.what());
@@ -187,80 +188,71 @@ HttpServer::HttpServer(const ServeOptions& options) : impl_(std::make_unique<Imp
         };
     };
 
-    server.Get("/healthz", [](const httplib::Request&, httplib::Response& res) { reply(res, 200, {{"status", "ok"}}); });
-    server.Get("/", [](const httplib::Request&, httplib::Response& res) {
-        res.set_content(std::string(dashboard_html()), "text/html; charset=utf-8");
-    });
-    server.Get("/v1/kbs", guarded([&](const auto&, auto& res) { reply(res, 200, service.list_kbs()); }));
-    server.Get(R"(/v1/kbs/([^/]+))",
-               guarded([&](const auto& req, auto& res) { reply(res, 200, service.kb_info(req.matches[1])); }));
-    server.Post(R"(/v1/kbs/([^/]+)/lookup)", guarded([&](const auto& req, auto& res) {
-                    // the body's DOM is freed before the answer is written
-                    const auto answer = service.lookup(req.matches[1], parse_body(req.body));
-                    reply(res, 200, answer);
-                }));
-    server.Post(R"(/v1/kbs/([^/]+)/shape)", guarded([&](const auto& req, auto& res) {
-                    const auto answer = service.shape(req.matches[1], parse_body(req.body));
-                    reply(res, 200, answer);
-                }));
-    server.Get(R"(/v1/kbs/([^/]+)/segments)", guarded([&](const auto& req, auto& res) {
-                   const auto order = req.has_param("order") ? req.get_param_value("order") : std::string("reward");
-                   const auto values = req.has_param("values") && req.get_param_value("values") == "1";
-                   reply(res, 200,
-                         service.segments(req.matches[1], order, parse_count(req, "limit", 20),
-                                          parse_count(req, "min_count", 1), values));
-               }));
-    server.Post(R"(/v1/kbs/([^/]+)/observe)", guarded([&](const auto& req, auto& res) {
-                    const auto answer = service.observe(req.matches[1], parse_body(req.body));
-                    reply(res, 200, answer);
-                }));
-    server.Get("/v1/runs", guarded([&](const auto&, auto& res) { reply(res, 200, service.runs()); }));
-    server.Get(R"(/v1/runs/(\d+)/generations)", guarded([&](const auto& req, auto& res) {
-                   const std::string id = req.matches[1];
-                   // more digits than any run id has: no such run (std::stoll would throw)
-                   if (id.size() > 18) throw HttpError(404, concat("no run ", id.substr(0, 40), " here"));
-                   reply(res, 200, service.generations(std::stoll(id)));
-               }));
-    server.Get("/v1/campaign", guarded([&](const auto&, auto& res) { reply(res, 200, service.campaign()); }));
-    server.set_error_handler([](const httplib::Request& req, httplib::Response& res) {
-        // only statuses no handler set: unknown paths (404), bodies over the limit (413)
-        if (!res.body.empty()) return;
-        const std::string message = res.status == 404   ? concat("no such endpoint: ", req.method, " ", req.path)
-                                    : res.status == 413 ? "the request body is too large"
-                                                        : concat("HTTP ", res.status);
-        fail(res, res.status, message);
-    });
-    // an exception no handler caught: a JSON 500 without the library's EXCEPTION_WHAT header
-    server.set_exception_handler([](const httplib::Request&, httplib::Response& res, std::exception_ptr) {
-        fail(res, 500, "internal error");
-    });
-
-    // answers leave at once on a reused connection (no Nagle wait for the client's delayed ACK)
-    server.set_tcp_nodelay(true);
-    // SO_REUSEADDR (a restart binds at once over connections in TIME_WAIT) but not the library's
-    // default SO_REUSEPORT, with which a second server bound the same port and shared its requests
-    server.set_socket_options([](socket_t sock) {
-        int yes = 1;
-        ::setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
-    });
+    // answered on the I/O thread: no work slot, never behind slow clients or long lookups
+    server.route(
+        "GET", "/healthz",
+        [](HttpRequest&, HttpResponse& res) {
+            reply(res, 200, {{"status", "ok"}});
+        },
+        true);
+    server.route(
+        "GET", "/",
+        [](HttpRequest&, HttpResponse& res) {
+            res.content_type = "text/html; charset=utf-8";
+            res.body = std::string(dashboard_html());
+        },
+        true);
+    server.route("GET", "/v1/kbs", guarded([&](auto&, auto& res) { reply(res, 200, service.list_kbs()); }));
+    server.route("GET", R"(/v1/kbs/([^/]+))",
+                 guarded([&](auto& req, auto& res) { reply(res, 200, service.kb_info(req.matches[1])); }));
+    server.route("POST", R"(/v1/kbs/([^/]+)/lookup)", guarded([&](auto& req, auto& res) {
+                     reply(res, 200, service.lookup(req.matches[1], take_body(req)));
+                 }));
+    server.route("POST", R"(/v1/kbs/([^/]+)/shape)", guarded([&](auto& req, auto& res) {
+                     reply(res, 200, service.shape(req.matches[1], take_body(req)));
+                 }));
+    server.route("GET", R"(/v1/kbs/([^/]+)/segments)", guarded([&](auto& req, auto& res) {
+                     const auto order =
+                         req.has_param("order") ? req.get_param_value("order") : std::string("reward");
+                     const auto values = req.has_param("values") && req.get_param_value("values") == "1";
+                     reply(res, 200,
+                           service.segments(req.matches[1], order, parse_count(req, "limit", 20),
+                                            parse_count(req, "min_count", 1), values));
+                 }));
+    server.route("POST", R"(/v1/kbs/([^/]+)/observe)", guarded([&](auto& req, auto& res) {
+                     reply(res, 200, service.observe(req.matches[1], take_body(req)));
+                 }));
+    server.route("GET", "/v1/runs", guarded([&](auto&, auto& res) { reply(res, 200, service.runs()); }));
+    server.route("GET", R"(/v1/runs/(\d+)/generations)", guarded([&](auto& req, auto& res) {
+                     const std::string id = req.matches[1];
+                     // more digits than any run id has: no such run (std::stoll would throw)
+                     if (id.size() > 18) throw HttpError(404, concat("no run ", id.substr(0, 40), " here"));
+                     reply(res, 200, service.generations(std::stoll(id)));
+                 }));
+    server.route("GET", "/v1/campaign",
+                 guarded([&](auto&, auto& res) { reply(res, 200, service.campaign()); }));
 
     int& port = impl_->port;
-    port = options.port;
-    if (port == 0) {
-        port = server.bind_to_any_port(options.bind);
-    } else if (!server.bind_to_port(options.bind, port)) {
-        port = -1;
+    port = server.bind(options.bind, options.port);
+    if (port < 0) {
+        throw Error(concat("cannot listen on ", options.bind, ":", options.port,
+                           " (in use, or not an address here)"));
     }
-    if (port < 0) throw Error(concat("cannot listen on ", options.bind, ":", options.port, " (in use, or not an address here)"));
 }
 
 HttpServer::~HttpServer() = default;
 
 int HttpServer::port() const { return impl_->port; }
 
-void HttpServer::run() { impl_->server.listen_after_bind(); }
+void HttpServer::run() { impl_->server.run(); }
 
 void HttpServer::stop() { impl_->server.stop_all(); }
+
+std::string url_of(const std::string& host, int port) {
+    // an IPv6 address is bracketed in a URL (RFC 3986): http://[::1]:8080
+    const bool v6 = host.find(':') != std::string::npos;
+    return concat("http://", v6 ? "[" : "", host, v6 ? "]" : "", ":", port);
+}
 
 void serve(const ServeOptions& options) {
     // block the stop signals in every thread; one thread waits for them
@@ -270,8 +262,13 @@ void serve(const ServeOptions& options) {
     sigaddset(&stop_signals, SIGTERM);
     pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
 
+    // memory given back (docs/service.md, "Memory"): buffers of 1 MiB and more are mapped apart and
+    // unmapped when freed (a fixed threshold: glibc's sliding one kept a 32 MiB body's pages in the heap),
+    // and the threads share two arenas rather than one each
+    ::mallopt(M_MMAP_THRESHOLD, 1 << 20);
+    ::mallopt(M_ARENA_MAX, 2);
     HttpServer server(options);
-    std::cout << "listening on http://" << options.bind << ":" << server.port()
+    std::cout << "listening on " << url_of(options.bind, server.port())
               << (options.writable ? " (writable)" : " (read-only)") << std::endl;
     std::atomic<bool> signalled{false};
     std::thread stopper([&] {

@@ -44,9 +44,9 @@ json match_json(std::size_t index, const kb::SegmentMatch& m) {
             {"average_reward", m.average_reward}};
 }
 
-// a behaviour matrix (rows of `channels` values) flattened
-std::vector<float> read_behaviour(const json& rows, const kb::KbParams& params, const std::string& what,
-                                  const Limits& limits) {
+// a behaviour matrix (rows of `channels` values) flattened: the packed matrix itself, or `storage`
+std::span<const float> read_behaviour(const json& rows, const kb::KbParams& params, const std::string& what,
+                                      const Limits& limits, std::vector<float>& storage) {
     const std::size_t count = row_count(rows);
     if (count == 0) throw HttpError(400, what + " must be a non-empty array of rows");
     if (count < params.segment_width) {
@@ -57,10 +57,7 @@ std::vector<float> read_behaviour(const json& rows, const kb::KbParams& params, 
         throw HttpError(413, concat(what, " has ", count / params.segment_width, " segments, more than ",
                                     limits.max_segments));
     }
-    std::vector<float> values;
-    values.reserve(count * params.channels);
-    read_rows(rows, params.channels, what, values);
-    return values;
+    return rows_view(rows, params.channels, what, storage);
 }
 
 const json& member(const json& body, const char* key) {
@@ -102,36 +99,77 @@ KbService::KbService(const fs::path& input, bool writable, Limits limits)
     std::error_code error;
     if (!fs::exists(input, error)) throw ConfigError(concat(input.string(), ": no such file or directory"));
     campaign_ = fs::is_directory(input);
-    const auto mode = writable ? db::OpenMode::read_write : db::OpenMode::read_only;
-    // (name in the API, file, name in the file)
-    std::vector<std::tuple<std::string, fs::path, std::string>> wanted;
-    if (campaign_) {
-        if (!fs::exists(input / "campaign.db")) {
-            throw DataError(concat(input.string(), ": no campaign.db here (serve a KB or run file, or a campaign directory)"));
-        }
-        auto connection = db::open_database(input / "campaign.db", db::OpenMode::read_only);
-        auto rows = connection.prepare(db::sql("report/select_campaign_kbs.sql"));
-        while (rows.step()) wanted.emplace_back(rows.column_text(0), input / rows.column_text(1), "");
-    } else {
-        auto connection = db::open_database(input, db::OpenMode::read_only);
-        for (const auto& summary : db::list_kbs(connection)) wanted.emplace_back(summary.name, input, summary.name);
+    if (campaign_ && !fs::exists(input / "campaign.db")) {
+        throw DataError(concat(input.string(),
+                               ": no campaign.db here (serve a KB or run file, or a campaign directory)"));
     }
-    for (const auto& [name, file, stored_name] : wanted) {
-        if (!fs::exists(file)) continue;  // a campaign whose KB step has not run yet
-        auto kb = std::make_unique<Kb>();
-        auto connection = db::open_database(file, mode);
-        auto stored = db::load_kb(connection, stored_name);
-        kb->name = name;
-        kb->stored_name = stored.name;
-        kb->file = file;
-        kb->id = stored.id;
-        kb->randomized_seed = stored.randomized_seed;
-        kb->kb = std::move(stored.kb);
-        if (writable) {
-            db::start_writing(connection);
-            kb->writer.emplace(std::move(connection));
+    for (const auto& wanted : wanted_kbs()) {
+        if (fs::exists(wanted.file)) kbs_.push_back(load(wanted));  // else its KB step has not run yet
+    }
+    last_scan_ = std::chrono::steady_clock::now();
+}
+
+std::vector<KbService::WantedKb> KbService::wanted_kbs() const {
+    std::vector<WantedKb> wanted;
+    if (campaign_) {
+        auto connection = db::open_database(input_ / "campaign.db", db::OpenMode::read_only);
+        auto rows = connection.prepare(db::sql("report/select_campaign_kbs.sql"));
+        while (rows.step()) wanted.push_back({rows.column_text(0), input_ / rows.column_text(1), ""});
+    } else {
+        auto connection = db::open_database(input_, db::OpenMode::read_only);
+        for (const auto& summary : db::list_kbs(connection))
+            wanted.push_back({summary.name, input_, summary.name});
+    }
+    return wanted;
+}
+
+std::unique_ptr<KbService::Kb> KbService::load(const WantedKb& wanted) const {
+    auto kb = std::make_unique<Kb>();
+    auto connection =
+        db::open_database(wanted.file, writable_ ? db::OpenMode::read_write : db::OpenMode::read_only);
+    auto stored = db::load_kb(connection, wanted.stored_name);
+    kb->name = wanted.name;
+    kb->stored_name = stored.name;
+    kb->file = wanted.file;
+    kb->id = stored.id;
+    kb->randomized_seed = stored.randomized_seed;
+    kb->kb = std::move(stored.kb);
+    if (writable_) {
+        db::start_writing(connection);
+        kb->writer.emplace(std::move(connection));
+    }
+    return kb;
+}
+
+void KbService::rescan() const {
+    const auto now = std::chrono::steady_clock::now();
+    {
+        std::lock_guard lock(scan_mutex_);
+        if (now - last_scan_ < kRescanInterval) return;
+        last_scan_ = now;
+    }
+    // KBs that a campaign made since (or whose file was still being written): loaded now, or at a
+    // later scan if they cannot be read yet
+    try {
+        for (const auto& wanted : wanted_kbs()) {
+            {
+                std::shared_lock lock(kbs_mutex_);
+                if (std::any_of(kbs_.begin(), kbs_.end(),
+                                [&](const auto& kb) { return kb->name == wanted.name; }))
+                    continue;
+            }
+            if (!fs::exists(wanted.file)) continue;
+            try {
+                auto kb = load(wanted);
+                std::unique_lock lock(kbs_mutex_);
+                if (std::none_of(kbs_.begin(), kbs_.end(),
+                                 [&](const auto& k) { return k->name == wanted.name; }))
+                    kbs_.push_back(std::move(kb));
+            } catch (const Error&) {
+            }
         }
-        kbs_.push_back(std::move(kb));
+    } catch (const Error&) {
+        // the index cannot be read now (being written, or gone): the KBs loaded are served
     }
 }
 
@@ -142,6 +180,8 @@ KbService::~KbService() {
 }
 
 KbService::Kb& KbService::find(const std::string& name) const {
+    rescan();
+    std::shared_lock lock(kbs_mutex_);
     for (const auto& kb : kbs_) {
         if (kb->name == name) return *kb;
     }
@@ -149,7 +189,9 @@ KbService::Kb& KbService::find(const std::string& name) const {
 }
 
 json KbService::list_kbs() const {
+    rescan();
     json out = json::array();
+    std::shared_lock list_lock(kbs_mutex_);
     for (const auto& kb : kbs_) {
         std::shared_lock lock(kb->mutex);
         auto summary = kb_summary(kb->name, kb->file, kb->kb, kb->randomized_seed);
@@ -172,7 +214,7 @@ json KbService::kb_info(const std::string& name) const {
     return out;
 }
 
-json KbService::lookup(const std::string& name, const json& body) const {
+json KbService::lookup(const std::string& name, json body) const {
     const Kb& kb = find(name);
     const auto& rows = member(body, "segments");
     // an array, or a matrix packed while parsing (service/body.hpp)
@@ -183,22 +225,25 @@ json KbService::lookup(const std::string& name, const json& body) const {
                         concat("\"segments\" has ", count, " segments, more than ", limits_.max_segments));
     }
     const std::size_t dim = kb.kb.params().dim();
-    std::vector<float> values;
-    values.reserve(count * dim);
-    read_rows(rows, dim, "segments", values);
+    // the packed numbers are read where they lie: the DOM is the request's only copy of them
+    std::vector<float> storage;
+    const auto values = rows_view(rows, dim, "segments", storage);
     std::shared_lock lock(kb.mutex);
     const auto result = kb.kb.lookup(kb::as_segments(values, dim));
+    body = json();  // the numbers looked up: their DOM freed before the answer's is built
     json matches = json::array();
     for (std::size_t i = 0; i < result.segments.size(); ++i) matches.push_back(match_json(i, result.segments[i]));
     return {{"kb", kb.name}, {"match", db::to_string(kb.kb.params().match)}, {"matches", matches}, {"r_max", result.r_max}};
 }
 
-json KbService::shape(const std::string& name, const json& body) const {
+json KbService::shape(const std::string& name, json body) const {
     const Kb& kb = find(name);
     const auto& params = kb.kb.params();
-    const auto values = read_behaviour(member(body, "behaviour"), params, "behaviour", limits_);
+    std::vector<float> storage;
+    const auto values = read_behaviour(member(body, "behaviour"), params, "behaviour", limits_, storage);
     std::shared_lock lock(kb.mutex);
     const auto result = kb.kb.lookup(kb::segment_behaviour(values, params.channels, params.segment_width));
+    body = json();  // the numbers looked up: their DOM freed before the answer's is built
     json matches = json::array();
     for (std::size_t i = 0; i < result.segments.size(); ++i) {
         auto m = match_json(i, result.segments[i]);
@@ -279,7 +324,8 @@ json KbService::observe(const std::string& name, const json& body) {
     }
     // every policy checked before any is observed
     const auto& params = kb.kb.params();
-    std::vector<std::vector<float>> behaviours;
+    std::vector<std::span<const float>> behaviours;
+    std::vector<std::vector<float>> storage(policies.size());  // the behaviours that were not packed
     std::vector<double> rewards;
     for (std::size_t i = 0; i < policies.size(); ++i) {
         const auto& p = policies[i];
@@ -292,7 +338,8 @@ json KbService::observe(const std::string& name, const json& body) {
             throw HttpError(400, concat(what, ".reward must be a finite number within +-",
                                         shortest(kb::kMaxRewardMagnitude)));
         }
-        behaviours.push_back(read_behaviour(p["behaviour"], params, what + ".behaviour", limits_));
+        behaviours.push_back(
+            read_behaviour(p["behaviour"], params, what + ".behaviour", limits_, storage[i]));
         rewards.push_back(p["reward"].get<double>());
     }
     std::unique_lock lock(kb.mutex);
@@ -319,8 +366,19 @@ json KbService::observe(const std::string& name, const json& body) {
             {"matched", matched}, {"segments", kb.kb.size()},       {"durable", true}};
 }
 
+bool KbService::run_started(std::int64_t id) const {
+    for (const auto& r : runs::load_campaign(input_).runs) {
+        if (r.id == id) return r.status != runs::RunStatus::pending;
+    }
+    return false;
+}
+
 std::vector<KbService::RunFile> KbService::run_files() const {
     std::vector<RunFile> out;
+    const auto index = campaign_ ? input_ / "campaign.db" : input_;
+    if (!fs::exists(index)) {
+        throw HttpError(410, concat(index.filename().string(), " is gone (deleted while served)"));
+    }
     if (!campaign_) {
         auto connection = db::open_database(input_, db::OpenMode::read_only);
         if (connection.query_int(db::sql("run/count_runs.sql")).value_or(0) > 0) out.push_back({1, input_});
@@ -371,7 +429,13 @@ json KbService::generations(std::int64_t id) const {
     for (const auto& file : run_files()) {
         if (file.id != id) continue;
         json out = json::array();
-        if (!fs::exists(file.path)) return out;  // not started yet
+        if (!fs::exists(file.path)) {
+            if (!campaign_ || run_started(id)) {
+                throw HttpError(410, concat("run ", id, ": its file ", file.path.filename().string(),
+                                            " is gone (deleted while served)"));
+            }
+            return out;  // not started yet
+        }
         auto connection = db::open_database(file.path, db::OpenMode::read_only);
         for (const auto& g : report::load_generations(connection, runs::load_run(connection).id)) {
             out.push_back({{"generation", g.generation},
@@ -393,7 +457,9 @@ json KbService::campaign() const {
         const std::string status(runs::to_string(entry.status));
         by_status[status] = by_status.value(status, 0) + 1;
     }
+    rescan();
     json kbs = json::array();
+    std::shared_lock lock(kbs_mutex_);
     for (const auto& kb : kbs_) kbs.push_back(kb->name);
     return {{"directory", input_.filename().string()}, {"config", index.config}, {"runs", by_status}, {"kbs", kbs}};
 }

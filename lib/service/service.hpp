@@ -1,12 +1,15 @@
 #pragma once
 
+#include <chrono>
 #include <cstddef>
 #include <filesystem>
 #include <memory>
+#include <mutex>
+#include <nlohmann/json.hpp>
+#include <shared_mutex>
 #include <stdexcept>
 #include <string>
-
-#include <nlohmann/json.hpp>
+#include <vector>
 
 namespace stepstone::service {
 
@@ -19,6 +22,11 @@ public:
 private:
     int status_;
 };
+
+/// The largest --max-body: 1 GiB (a request's memory is a few times its body, docs/service.md).
+inline constexpr std::size_t kMaxBodyLimit = std::size_t{1} << 30;
+/// Bodies of --max-body bytes that the server receives or works on at once; more get 503.
+inline constexpr std::size_t kBodiesAtOnce = 2;
 
 /// Limits on what one request may ask.
 struct Limits {
@@ -51,10 +59,10 @@ public:
     /// GET /v1/kbs/{name}: its summary, histogram of average rewards and provenance.
     nlohmann::json kb_info(const std::string& name) const;
     /// POST /v1/kbs/{name}/lookup: {"segments": [[dim values], ...]} -> matches and r_max.
-    nlohmann::json lookup(const std::string& name, const nlohmann::json& body) const;
+    nlohmann::json lookup(const std::string& name, nlohmann::json body) const;
     /// POST /v1/kbs/{name}/shape: {"behaviour": [[channels values], ...]} (rows =
     /// time steps) -> its whole segments' matches and r_max, as evolve computes them.
-    nlohmann::json shape(const std::string& name, const nlohmann::json& body) const;
+    nlohmann::json shape(const std::string& name, nlohmann::json body) const;
     /// GET /v1/kbs/{name}/segments: the segments with count >= min_count, by
     /// `order` (reward: largest average first; count; id), at most `limit`.
     nlohmann::json segments(const std::string& name, const std::string& order, std::size_t limit,
@@ -67,11 +75,16 @@ public:
 
     /// GET /v1/runs: the runs with their status and progress, read now.
     nlohmann::json runs() const;
-    /// GET /v1/runs/{id}/generations: a run's statistics per generation, read now.
+    /// GET /v1/runs/{id}/generations: a run's statistics per generation, read now (410 when
+    /// its file was deleted; [] for a campaign's run not started yet).
     nlohmann::json generations(std::int64_t id) const;
     /// GET /v1/campaign: the campaign's config, its runs by status and its KBs
     /// (404 when serving a single file).
     nlohmann::json campaign() const;
+
+    /// How often at most the KBs of the input are looked for again (a campaign makes its KBs as
+    /// it goes): when a request names or lists KBs.
+    static constexpr std::chrono::milliseconds kRescanInterval{1000};
 
 private:
     struct Kb;
@@ -79,14 +92,27 @@ private:
         std::int64_t id;
         std::filesystem::path path;
     };
+    struct WantedKb {
+        std::string name;  // in the API
+        std::filesystem::path file;
+        std::string stored_name;  // in its file ("": its only one)
+    };
     Kb& find(const std::string& name) const;
     std::vector<RunFile> run_files() const;
+    bool run_started(std::int64_t id) const;
+    std::vector<WantedKb> wanted_kbs() const;
+    std::unique_ptr<Kb> load(const WantedKb& wanted) const;
+    void rescan() const;
 
     std::filesystem::path input_;
     bool campaign_ = false;
     bool writable_ = false;
     Limits limits_;
-    std::vector<std::unique_ptr<Kb>> kbs_;
+    // the KBs loaded so far: a rescan appends, nothing is removed (a Kb& stays valid)
+    mutable std::vector<std::unique_ptr<Kb>> kbs_;
+    mutable std::shared_mutex kbs_mutex_;
+    mutable std::mutex scan_mutex_;
+    mutable std::chrono::steady_clock::time_point last_scan_;
 };
 
 /// Everything `stepstone serve` is told.
@@ -95,7 +121,7 @@ struct ServeOptions {
     std::string bind = "127.0.0.1";
     int port = 8080;       ///< 0: any free port
     unsigned threads = 0;  ///< requests doing KB work at once; 0 = every core (at least 2)
-    unsigned connections = 64;  ///< connections served at once (one thread each); more wait to be accepted
+    unsigned connections = 64;  ///< connections open at once; more wait to be accepted
     bool writable = false;
     std::filesystem::path token_file;  ///< bearer token; required by --writable and a non-loopback --bind
     double timeout_seconds = 30.0;     ///< one request, from its first byte to its answer's last
@@ -126,10 +152,13 @@ private:
 
 /// Serves `options.input` until SIGINT or SIGTERM: then stops accepting,
 /// finishes the requests in flight (their observations committed) and
-/// returns. Prints "listening on http://HOST:PORT" on stdout once bound.
+/// returns. Prints "listening on URL" (url_of) on stdout once bound.
 /// Throws ConfigError for unsafe or bad options (before binding), Error when
 /// the port cannot be bound.
 void serve(const ServeOptions& options);
+
+/// http://HOST:PORT, an IPv6 address bracketed: http://[::1]:8080.
+std::string url_of(const std::string& host, int port);
 
 /// True for 127.0.0.0/8, ::1 and "localhost".
 bool is_loopback(const std::string& host);

@@ -5,7 +5,10 @@
 #   2. no library message names a CLI flag (--name in a string literal);
 #      the libraries name options as `name` (core/text.hpp: option_name);
 #   3. no library or app file is over 600 lines;
-#   4. no test name holds ';' or '[' (ctest would split it, Catch read a tag).
+#   4. no test name holds ';' or '[' (ctest would split it, Catch read a tag);
+#   5. the service uses only the public API of the libraries it serves with: it names no
+#      private or protected member of cpp-httplib, subclasses none of its classes and includes
+#      no header of a library's internals (docs/service.md, "How the bounds are kept").
 # Usage: layers.sh SOURCE_DIR. Prints every violation; exit 1 if any.
 set -euo pipefail
 src="$1"
@@ -34,6 +37,17 @@ while IFS= read -r hit; do fail "a math-library call outside sim/cos_sin.hpp: $h
     < <(grep -rnE 'std::(sin|cos|atan2|tan|asin|acos|atan)\(' lib/sim --include='*.cpp' --include='*.hpp' \
             | grep -vE '^lib/sim/(cos_sin\.hpp|world\.cpp|controllers\.cpp):' || true)
 
+# cpp-httplib's private and protected members of Server (0.11.4), a subclass of its classes, and the
+# detail/impl headers of a library (Boost's `detail` or `impl` folders): none in the service, comments aside
+httplib_internals='process_and_close_socket|process_request|svr_sock_|is_running_|keep_alive_max_count_|'
+httplib_internals+='keep_alive_timeout_sec_|read_timeout_(u?sec)_|write_timeout_(u?sec)_|idle_interval_(u?sec)_|'
+httplib_internals+='payload_max_length_|listen_internal|bind_internal|create_server_socket|read_content|'
+httplib_internals+='dispatch_request|routing\(|write_response|httplib::detail::'
+while IFS= read -r hit; do fail "the service reaches into a library's internals: $hit"; done \
+    < <(grep -rnE "($httplib_internals)|(:|public|protected|private)\s+(virtual\s+)?httplib::|#include\s*[<\"][^>\"]*/(detail|impl)/" \
+            lib/service apps/stepstone/cmd_serve.cpp --include='*.cpp' --include='*.hpp' \
+            | grep -vE '^[^:]+:[0-9]+:\s*//' || true)
+
 # ctest splits a test name at ';', Catch reads '[' as a tag and a leading '-' as an option: such a
 # case would run nothing. perl reads each file whole, as clang-format may wrap the name.
 while IFS= read -r hit; do fail "a test name ctest or Catch would misread: $hit"; done \
@@ -49,4 +63,4 @@ if [ "$failures" -gt 0 ]; then
     echo "layers: $failures violation(s)"
     exit 1
 fi
-echo "layers: runs, report and service stay off the engine; no flag in a library message; no file over 600 lines"
+echo "layers: runs, report and service stay off the engine; the service on public library APIs only; no flag in a library message; no file over 600 lines"

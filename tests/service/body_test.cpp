@@ -62,3 +62,50 @@ TEST_CASE("a number beyond float32's range is refused, not read as infinity", "[
     CHECK_THROWS_AS(parse_body(R"({"m": [[1e400]]})"), HttpError);
     CHECK_THROWS_AS(parse_body(R"({"m": [[1, 2)"), HttpError);
 }
+
+TEST_CASE("a body nested deeper than the limit is refused at the limit, naming it", "[service]") {
+    const auto nested = [](std::size_t depth) { return std::string(depth, '[') + std::string(depth, ']'); };
+    CHECK(parse_body(nested(kMaxDepth)).is_array());
+    const auto error_at = [](const std::string& body) {
+        try {
+            parse_body(body);
+        } catch (const HttpError& e) {
+            return std::to_string(e.status()) + " " + e.what();
+        }
+        return std::string();
+    };
+    CHECK(error_at(nested(kMaxDepth + 1)) == "400 the body nests arrays and objects deeper than 64 levels");
+    // refused at the 65th level, whatever follows (not even closed, here)
+    CHECK(error_at("{\"a\": " + std::string(10 * 1000 * 1000, '[')) ==
+          "400 the body nests arrays and objects deeper than 64 levels");
+    std::string objects(40, '[');
+    for (int i = 0; i < 40; ++i) objects += "{\"a\": ";
+    CHECK(error_at(objects) == "400 the body nests arrays and objects deeper than 64 levels");
+}
+
+TEST_CASE("a body whose DOM would outgrow three times its size is refused, rows of numbers are not",
+          "[service]") {
+    // empty arrays: a JSON value each for 3 bytes of text
+    std::string empties = "{\"segments\": [[]";
+    for (int i = 0; i < 200000; ++i) empties += ",[]";
+    empties += "]}";
+    try {
+        parse_body(empties);
+        FAIL("parsed");
+    } catch (const HttpError& e) {
+        CHECK(e.status() == 413);
+        CHECK(std::string(e.what()).rfind("the body's JSON would take more than " +
+                                              std::to_string(dom_budget(empties.size())) + " bytes in memory",
+                                          0) == 0);
+    }
+    // the densest rows of numbers: one digit a number, 4 bytes as float32 for 2 of text
+    std::string dense = "{\"segments\": [[0";
+    for (int i = 1; i < 15; ++i) dense += ",0";
+    dense += "]";
+    const std::string row = dense.substr(14);
+    while (dense.size() < 4 * 1000 * 1000) dense += "," + row;
+    dense += "]}";
+    const auto packed = parse_body(dense);
+    REQUIRE(packed["segments"].is_binary());
+    CHECK(row_count(packed["segments"]) > 100000);
+}

@@ -32,7 +32,8 @@ ServerProcess::ServerProcess(const std::vector<std::string>& args, const std::fi
         execv(raw[0], raw.data());
         _exit(127);
     }
-    const std::regex listening(R"(listening on http://[^:]+:(\d+))");
+    // http://127.0.0.1:P, or an IPv6 address bracketed: http://[::1]:P
+    const std::regex listening(R"(listening on http://(?:\[[^\]]*\]|[^:/]+):(\d+))");
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
     while (std::chrono::steady_clock::now() < deadline) {
         std::smatch match;
