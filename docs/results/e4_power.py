@@ -16,26 +16,9 @@ import csv
 import math
 
 import numpy as np
-from statsmodels.duration.survfunc import survdiff
 
 from l_power import draw, e2_ball_rate
-
-
-def holm_first(ps):
-    order = sorted(range(len(ps)), key=lambda i: ps[i])
-    adjusted, running = [0.0] * len(ps), 0.0
-    for rank, i in enumerate(order):
-        running = max(running, min(1.0, (len(ps) - rank) * ps[i]))
-        adjusted[i] = running
-    return adjusted[0]
-
-
-def logrank_p(a, b):
-    status = np.concatenate([a[1], b[1]])
-    if status.sum() == 0:
-        return 1.0
-    groups = np.array([0] * len(a[0]) + [1] * len(b[0]))
-    return float(survdiff(np.concatenate([a[0], b[0]]), status, groups)[1])
+from prereg_power import holm_first, logrank_p
 
 
 def main():
