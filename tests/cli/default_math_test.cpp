@@ -26,6 +26,13 @@ std::string stored_math(const std::filesystem::path& run) {
     return row.step() ? row.column_text(0) : "";
 }
 
+// the same run config three ways: naming no math, libm, portable
+void write_configs(const test::TempDir& dir) {
+    test::write_file(dir / "default.json", kBody + "}");
+    test::write_file(dir / "libm.json", kBody + R"(, "math": "libm"})");
+    test::write_file(dir / "portable.json", kBody + R"(, "math": "portable"})");
+}
+
 test::CliResult evolve(const std::filesystem::path& config, const std::filesystem::path& db,
                        std::vector<std::string> extra = {}) {
     std::vector<std::string> args{"evolve", "--config", config.string(), "--db", db.string(), "--quiet"};
@@ -38,9 +45,7 @@ test::CliResult evolve(const std::filesystem::path& config, const std::filesyste
 TEST_CASE("a new run is portable unless its config pins libm, which is stored as older files store it",
           "[cli][determinism]") {
     test::TempDir dir;
-    test::write_file(dir / "default.json", kBody + "}");
-    test::write_file(dir / "libm.json", kBody + R"(, "math": "libm"})");
-    test::write_file(dir / "portable.json", kBody + R"(, "math": "portable"})");
+    write_configs(dir);
     for (const char* name : {"default", "libm", "portable"})
         REQUIRE(evolve(dir / (std::string(name) + ".json"), dir / (std::string(name) + ".db")).exit_code ==
                 0);
@@ -56,9 +61,7 @@ TEST_CASE("a new run is portable unless its config pins libm, which is stored as
 TEST_CASE("a libm run resumes as libm with a config that names no math, and refuses one that names portable",
           "[cli][determinism][resume]") {
     test::TempDir dir;
-    test::write_file(dir / "default.json", kBody + "}");
-    test::write_file(dir / "libm.json", kBody + R"(, "math": "libm"})");
-    test::write_file(dir / "portable.json", kBody + R"(, "math": "portable"})");
+    write_configs(dir);
     REQUIRE(evolve(dir / "libm.json", dir / "whole.db", {"--generations", "4"}).exit_code == 0);
     REQUIRE(evolve(dir / "libm.json", dir / "part.db", {"--generations", "2"}).exit_code == 0);
     // the user's config names no math: the run's own (libm) is kept, to the uninterrupted digest
