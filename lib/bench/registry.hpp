@@ -53,9 +53,9 @@ private:
     std::vector<Case> cases_;
 };
 
-/// A registry holding every case whose candidate module is built into this
-/// binary (sim, episode, nn, diversity, kb). Registration is explicit: this
-/// function calls each module's case adder in turn.
+/// A registry holding every case of cases.cpp's adders (the simulator, episode,
+/// network, diversity, KB, shaped-run, evolve, MPI, render and serve cases).
+/// Registration is explicit: this function calls each adder in turn.
 Registry default_registry();
 
 }  // namespace stepstone::bench

@@ -13,7 +13,7 @@ namespace stepstone {
 /// glibc chooses among its own builds of these functions when a program starts
 /// (on x86-64, one built with FMA instructions when the CPU has them, else
 /// another). The builds differ in the last bit for a small share of arguments
-/// (measured here: 0.14 % of sincos and 0.07 % of pow results), so the same seed
+/// (docs/architecture.md, Determinism, has the figures), so the same seed
 /// can give different runs on machines of different kinds. Equal fingerprints
 /// say that two processes round every probed argument alike; a run file stores
 /// its machine's fingerprint (meta key `math_fingerprint`).

@@ -18,7 +18,7 @@ struct SegmentRecord;
 /// indexes of their own: the shortcut behind KnowledgeBase::r_max.
 ///
 /// A source task rewards few of its policies, so most KB segments average 0
-/// (149,233 segments, 19,022 positive in a paper-size source run's KB). When
+/// and the positive ones are a small minority. When
 /// no average is negative, r_max is the largest average among the policy
 /// segments' matches (0 if none), and a segment can raise the running r_max t
 /// only if its match averages more than t. So the positive segments are cut,

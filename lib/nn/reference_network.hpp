@@ -16,8 +16,8 @@ namespace stepstone::nn {
 /// index (not in the genome's connection order): the order that both layouts
 /// of Network compute. With `exact_exp` false it uses the same float sigmoid
 /// as Network and must equal it bit for bit (the tests' oracle). With `exact_exp` true it computes
-/// the sigmoid with std::exp in double, as nn2 does: the baseline that
-/// `stepstone bench` times Network against.
+/// the sigmoid with std::exp in double, as nn2 does (the tests compare Network with it to a
+/// tolerance; `stepstone bench` times Network against the pointer network of lib/bench).
 class ReferenceNetwork {
 public:
     ReferenceNetwork(const Genome& genome, const DnnConfig& config, bool exact_exp = false);

@@ -107,8 +107,8 @@ private:
     void report(const std::vector<Active>& active);
 
     /// Seconds between two readings of the running runs' files for the progress line: the
-    /// executor wakes every 100 ms, and opening each running file as often cost the campaign process
-    /// 1.6 % of a core for one running source run (0.4 % once a second; docs/transfer.md).
+    /// executor wakes every 100 ms, and opening each running file as often was a visible share of
+    /// a core for the campaign process (docs/transfer.md has the measurement).
     static constexpr double kReadingPeriod = 1.0;
 
     const CampaignOptions& options_;
