@@ -371,3 +371,35 @@ TEST_CASE("campaign --mpi: a run that fails on its rank is recorded with its err
     CHECK_THAT(test::read_file(camp / "logs" / "target-sum-seed-2.log"), Contains("stepstone: error: "));
     CHECK(test::finished_digests(camp).size() == 10);
 }
+
+TEST_CASE("evolve --mpi of a seeded, shaped target run gives the single-process digest", "[mpi][evolve][seeding]") {
+    test::TempDir dir;
+    test::write_file(dir / "source.json", kSource);
+    REQUIRE(test::run_cli({"evolve", "--config", (dir / "source.json").string(), "--db", (dir / "source.db").string(),
+                           "--seed", "3", "--quiet"})
+                .exit_code == 0);
+    exp::gunzip_file(fs::path(STEPSTONE_SOURCE_DIR) / "examples/fixtures/demo_kb.db.gz", dir / "kb.db");
+    test::write_file(dir / "target.json", R"({"task": {"kind": "target", "steps_per_start": 200, "starts": 1},
+      "ea": {"population_size": 8, "generations": 3}})");
+    const auto seeded = [&](const std::string& db) {
+        return std::vector<std::string>{"evolve",      "--config",    (dir / "target.json").string(),
+                                        "--seed",      "6",           "--seed-from",
+                                        (dir / "source.db").string(), "--seed-with", "best",
+                                        "--seed-count", "5",          "--kb",
+                                        (dir / "kb.db").string(),     "--treatment", "sum",
+                                        "--quiet",     "--db",        (dir / db).string()};
+    };
+    REQUIRE(test::run_cli(seeded("one.db")).exit_code == 0);
+    auto spread = seeded("two.db");
+    spread.emplace_back("--mpi");
+    const auto result = test::run_program(test::mpirun_command(2, spread));
+    INFO(result.err);
+    REQUIRE(result.exit_code == 0);
+    CHECK(digest_of(dir / "two.db") == digest_of(dir / "one.db"));
+    // generation 0 holds the seeds: its first individuals are the source's stored genomes
+    auto run = db::open_database(dir / "two.db", db::OpenMode::read_only);
+    CHECK(run.query_int("SELECT count(*) FROM genome WHERE individual_id < 5") == 5);
+    auto treatment = run.prepare("SELECT treatment FROM run");
+    REQUIRE(treatment.step());
+    CHECK(treatment.column_text(0) == "seed-sum");
+}
