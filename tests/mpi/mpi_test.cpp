@@ -372,22 +372,35 @@ TEST_CASE("campaign --mpi: a run that fails on its rank is recorded with its err
     CHECK(test::finished_digests(camp).size() == 10);
 }
 
-TEST_CASE("evolve --mpi of a seeded, shaped target run gives the single-process digest", "[mpi][evolve][seeding]") {
+TEST_CASE("evolve --mpi of a seeded, shaped target run gives the single-process digest",
+          "[mpi][evolve][seeding]") {
     test::TempDir dir;
     test::write_file(dir / "source.json", kSource);
-    REQUIRE(test::run_cli({"evolve", "--config", (dir / "source.json").string(), "--db", (dir / "source.db").string(),
-                           "--seed", "3", "--quiet"})
+    REQUIRE(test::run_cli({"evolve", "--config", (dir / "source.json").string(), "--db",
+                           (dir / "source.db").string(), "--seed", "3", "--quiet"})
                 .exit_code == 0);
     exp::gunzip_file(fs::path(STEPSTONE_SOURCE_DIR) / "examples/fixtures/demo_kb.db.gz", dir / "kb.db");
     test::write_file(dir / "target.json", R"({"task": {"kind": "target", "steps_per_start": 200, "starts": 1},
       "ea": {"population_size": 8, "generations": 3}})");
     const auto seeded = [&](const std::string& db) {
-        return std::vector<std::string>{"evolve",      "--config",    (dir / "target.json").string(),
-                                        "--seed",      "6",           "--seed-from",
-                                        (dir / "source.db").string(), "--seed-with", "best",
-                                        "--seed-count", "5",          "--kb",
-                                        (dir / "kb.db").string(),     "--treatment", "sum",
-                                        "--quiet",     "--db",        (dir / db).string()};
+        return std::vector<std::string>{"evolve",
+                                        "--config",
+                                        (dir / "target.json").string(),
+                                        "--seed",
+                                        "6",
+                                        "--seed-from",
+                                        (dir / "source.db").string(),
+                                        "--seed-with",
+                                        "best",
+                                        "--seed-count",
+                                        "5",
+                                        "--kb",
+                                        (dir / "kb.db").string(),
+                                        "--treatment",
+                                        "sum",
+                                        "--quiet",
+                                        "--db",
+                                        (dir / db).string()};
     };
     REQUIRE(test::run_cli(seeded("one.db")).exit_code == 0);
     auto spread = seeded("two.db");
