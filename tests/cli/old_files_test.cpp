@@ -39,15 +39,16 @@ TEST_CASE("a run file of 0.1.0 (libm) keeps its digest, replays and resumes as l
     INFO(replay.out << replay.err);
     const auto version = test::run_cli({"--version"});
     if (version.out.find(kFingerprint) == std::string::npos) {
-        WARN("this machine's math library rounds otherwise than the one that made the file: only its content "
-             "is compared");
+        WARN(
+            "this machine's math library rounds otherwise than the one that made the file: only its content "
+            "is compared");
         return;
     }
     CHECK(replay.exit_code == 0);  // the stored rewards come back: libm, as stored
     // resumed from its stored config, and from the config that made it (which names no math)
     fs::copy_file(dir / "run.db", dir / "again.db");
-    REQUIRE(test::run_cli({"evolve", "--db", (dir / "run.db").string(), "--resume", "--generations", "5",
-                           "--quiet"})
+    REQUIRE(test::run_cli(
+                {"evolve", "--db", (dir / "run.db").string(), "--resume", "--generations", "5", "--quiet"})
                 .exit_code == 0);
     CHECK(digest(dir / "run.db") == kDigestAt5);
     const auto with_config =
