@@ -32,6 +32,7 @@ void run_evolve_command(const EvolveFlags& flags) {
         leader.emplace(*session);
         options.mpi = &*leader;
     }
+    if (flags.db.empty()) throw ConfigError("--db is empty: name the run file to write");
     const auto summary = [&] {
         try {
             return exp::run_evolve(options);

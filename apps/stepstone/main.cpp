@@ -234,10 +234,30 @@ std::string kernels() {
 // CLI11's own wording of an option given more times than it takes, in the
 // project's words ("" when `what` is another message)
 static std::string plain_parse_error(const std::string& what) {
-    const std::string marker = ": At Most 1 required but received ";
-    const auto at = what.find(marker);
-    if (at == std::string::npos) return "";
-    return what.substr(0, at) + ": given " + what.substr(at + marker.size()) + " times; give it once";
+    // "--seed: At Most 1 required but received 2"
+    if (const auto at = what.find(": At Most 1 required but received "); at != std::string::npos)
+        return what.substr(0, at) + ": given " + what.substr(at + 34) + " times; give it once";
+    // "Could not convert: --threshold = abc"
+    if (what.rfind("Could not convert: ", 0) == 0) {
+        const auto eq = what.find(" = ");
+        if (eq != std::string::npos)
+            return what.substr(19, eq - 19) + ": '" + what.substr(eq + 3) + "' is not a value of its kind (a number?)";
+    }
+    // "--runs: 1 required TEXT missing"
+    if (const auto at = what.find(": 1 required "); at != std::string::npos && what.ends_with(" missing"))
+        return what.substr(0, at) + ": needs a value after it";
+    // "--reading: strides not in {segments,windows}"
+    if (const auto at = what.find(" not in {"); at != std::string::npos && what.ends_with("}")) {
+        const auto colon = what.find(": ");
+        if (colon != std::string::npos && colon < at) {
+            std::string choices = what.substr(at + 9, what.size() - at - 10);
+            for (auto& c : choices)
+                if (c == ',') c = '|';
+            return what.substr(0, colon) + " must be one of " + choices + ", got '" +
+                   what.substr(colon + 2, at - colon - 2) + "'";
+        }
+    }
+    return "";
 }
 
 int main(int argc, char** argv) {

@@ -207,3 +207,19 @@ TEST_CASE("an option given twice is one line in the project's words, not CLI11's
     CHECK_THAT(result.err, Contains("--seed: given 2 times; give it once"));
     CHECK_THAT(result.err, !Contains("At Most"));
 }
+
+TEST_CASE("CLI11's own wordings come out in the project's, one line each", "[cli][errors]") {
+    const auto said = [](std::vector<std::string> args, const std::string& message, const std::string& raw) {
+        CAPTURE(args);
+        const auto result = test::run_cli(args);
+        CHECK(result.exit_code == 2);
+        CHECK(result.err_lines().size() == 1);
+        CHECK_THAT(result.err, Contains(message));
+        CHECK_THAT(result.err, !Contains(raw));
+    };
+    said({"stats", "camp", "--threshold", "abc"}, "--threshold: 'abc' is not a value of its kind", "Could not convert");
+    said({"pool", "--runs"}, "--runs: needs a value after it", "required TEXT missing");
+    said({"kb", "calibrate", "run.db", "--reading", "strides"}, "--reading must be one of segments|windows, got 'strides'",
+         "not in {");
+    said({"evolve", "--config", "c.json", "--db", ""}, "--db is empty", "cannot move");
+}
