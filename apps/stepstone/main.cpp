@@ -241,7 +241,8 @@ static std::string plain_parse_error(const std::string& what) {
     if (what.rfind("Could not convert: ", 0) == 0) {
         const auto eq = what.find(" = ");
         if (eq != std::string::npos)
-            return what.substr(19, eq - 19) + ": '" + what.substr(eq + 3) + "' is not a value of its kind (a number?)";
+            return what.substr(19, eq - 19) + ": '" + what.substr(eq + 3) +
+                   "' is not a value of its kind (a number?)";
     }
     // "--runs: 1 required TEXT missing"
     if (const auto at = what.find(": 1 required "); at != std::string::npos && what.ends_with(" missing"))

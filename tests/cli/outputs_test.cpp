@@ -217,9 +217,10 @@ TEST_CASE("CLI11's own wordings come out in the project's, one line each", "[cli
         CHECK_THAT(result.err, Contains(message));
         CHECK_THAT(result.err, !Contains(raw));
     };
-    said({"stats", "camp", "--threshold", "abc"}, "--threshold: 'abc' is not a value of its kind", "Could not convert");
+    said({"stats", "camp", "--threshold", "abc"}, "--threshold: 'abc' is not a value of its kind",
+         "Could not convert");
     said({"pool", "--runs"}, "--runs: needs a value after it", "required TEXT missing");
-    said({"kb", "calibrate", "run.db", "--reading", "strides"}, "--reading must be one of segments|windows, got 'strides'",
-         "not in {");
+    said({"kb", "calibrate", "run.db", "--reading", "strides"},
+         "--reading must be one of segments|windows, got 'strides'", "not in {");
     said({"evolve", "--config", "c.json", "--db", ""}, "--db is empty", "cannot move");
 }
