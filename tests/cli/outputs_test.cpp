@@ -10,10 +10,13 @@
 #include <sys/sysmacros.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <future>
+#include <sstream>
 #include <string>
 
+#include "exp/campaign/campaign_kb.hpp"
 #include "support/kb_fixtures.hpp"
 #include "support/run_cli.hpp"
 #include "support/temp_dir.hpp"
@@ -223,4 +226,44 @@ TEST_CASE("CLI11's own wordings come out in the project's, one line each", "[cli
     said({"kb", "calibrate", "run.db", "--reading", "strides"},
          "--reading must be one of segments|windows, got 'strides'", "not in {");
     said({"evolve", "--config", "c.json", "--db", ""}, "--db is empty", "cannot move");
+}
+
+TEST_CASE("the README's transfer example shapes for real: the demo KB gives policies an r_max", "[cli][docs]") {
+    // README, "Transfer": the shipped demo KB, its randomized twin, and a sum run of
+    // target_quick.json (here 1 generation of 200 steps, in a temporary folder)
+    test::TempDir dir;
+    const fs::path examples = fs::path(STEPSTONE_SOURCE_DIR) / "examples";
+    exp::gunzip_file(examples / "fixtures" / "demo_kb.db.gz", dir / "demo_kb.db");
+    REQUIRE(test::run_cli({"kb", "randomize", (dir / "demo_kb.db").string(), "--out",
+                           (dir / "kb-rand.db").string(), "--seed", "1"})
+                .exit_code == 0);
+    const auto run = test::run_cli({"evolve", "--config", (examples / "target_quick.json").string(), "--db",
+                                    (dir / "sum.db").string(), "--kb", (dir / "demo_kb.db").string(),
+                                    "--treatment", "sum", "--seed", "1", "--generations", "1", "--quiet"});
+    INFO(run.err);
+    REQUIRE(run.exit_code == 0);
+    CHECK_THAT(run.err, !Contains("largest average reward is 0"));  // the warning a quick source KB gives
+    const auto exported =
+        test::run_cli({"export", (dir / "sum.db").string(), "--what", "individuals", "--csv", "-"});
+    REQUIRE(exported.exit_code == 0);
+    // some policy's r_max (the `shaping` column) is above 0
+    const auto split = [](const std::string& line) {
+        std::vector<std::string> fields;
+        std::istringstream in(line);
+        for (std::string field; std::getline(in, field, ',');) fields.push_back(field);
+        return fields;
+    };
+    std::istringstream rows(exported.out);
+    std::string line;
+    std::getline(rows, line);
+    const auto header = split(line);
+    const auto column = std::find(header.begin(), header.end(), "shaping") - header.begin();
+    REQUIRE(static_cast<std::size_t>(column) < header.size());
+    bool positive = false;
+    while (std::getline(rows, line)) {
+        const auto fields = split(line);
+        const auto k = static_cast<std::size_t>(column);
+        if (k < fields.size() && !fields[k].empty() && std::stod(fields[k]) > 0) positive = true;
+    }
+    CHECK(positive);
 }

@@ -87,6 +87,8 @@ TEST_CASE("stats on a campaign: success counts, quartiles and tests by hand", "[
     REQUIRE(last.exit_code == 0);
     CHECK_THAT(last.out,
                Contains("mean r_max of generations 2-2") && Contains("sum             0.5           64"));
+    // the table says its r_max are the stored, raw averages (the report's figure divides them)
+    CHECK_THAT(last.out, Contains("raw averages, not divided by the KB's largest"));
     const auto bad = test::run_cli({"stats", camp.string(), "--signal-window", "0"});
     CHECK(bad.exit_code == 2);
     CHECK_THAT(bad.err, Contains("--signal-window must be >= 1, got 0"));
