@@ -228,7 +228,8 @@ TEST_CASE("CLI11's own wordings come out in the project's, one line each", "[cli
     said({"evolve", "--config", "c.json", "--db", ""}, "--db is empty", "cannot move");
 }
 
-TEST_CASE("the README's transfer example shapes for real: the demo KB gives policies an r_max", "[cli][docs]") {
+TEST_CASE("the README's transfer example shapes for real: the demo KB gives policies an r_max",
+          "[cli][docs]") {
     // README, "Transfer": the shipped demo KB, its randomized twin, and a sum run of
     // target_quick.json (here 1 generation of 200 steps, in a temporary folder)
     test::TempDir dir;
