@@ -189,9 +189,7 @@ RunStart load_run_start(const EvolveOptions& options) {
     // a run keeps the math it was made with: a config given on resume that does not
     // name one takes the run's (an older file's, without the key, is libm)
     if (start.stored && !config.math_given) {
-        config.set_math(runs::EvolveConfig::from_json(start.stored->config, name + " (stored config)", {},
-                                                      runs::ConfigOrigin::stored)
-                            .math());
+        if (const auto math = runs::stored_math(start.stored->config)) config.set_math(*math);
     }
     if (options.retain) config.retain = *options.retain;
     if (options.generations) config.ea.generations = *options.generations;

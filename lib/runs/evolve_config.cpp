@@ -123,6 +123,11 @@ SeedWith parse_seed_with(const std::string& text, const std::string& what) {
     throw ConfigError(concat(what, " must be one of population, front, best, got \"", text, "\""));
 }
 
+std::optional<Math> stored_math(const nlohmann::json& stored) {
+    if (!stored.is_object() || !stored.contains("math")) return Math::libm;
+    return stored["math"].is_string() ? parse_math(stored["math"].get<std::string>()) : std::nullopt;
+}
+
 EvolveConfig EvolveConfig::from_json(const nlohmann::json& json, const std::string& source,
                                      const std::filesystem::path& folder, ConfigOrigin origin) {
     try {

@@ -90,6 +90,10 @@ enum class ConfigOrigin {
     stored,  ///< a run's stored config (EvolveConfig::to_json): absent means libm
 };
 
+/// The math a stored config (EvolveConfig::to_json) holds: its "math", libm when
+/// absent or when `stored` is not an object; nullopt for a name that is not a Math.
+std::optional<Math> stored_math(const nlohmann::json& stored);
+
 /// Everything `stepstone evolve` reads from its config file.
 struct EvolveConfig {
     sim::TaskConfig task;

@@ -3,7 +3,6 @@
 #include <optional>
 
 #include "core/error.hpp"
-#include "core/portable_math.hpp"
 #include "core/text.hpp"
 #include "core/writer_lock.hpp"
 #include "db/database.hpp"
@@ -43,9 +42,7 @@ void check_campaign_dir(const CampaignOptions& options) {
 // portable became the default).
 void inherit_math(runs::RunStep& step, const nlohmann::json& stored_step) {
     if (step.config.math_given || !stored_step.is_object() || !stored_step.contains("config")) return;
-    const auto& stored = stored_step["config"];
-    const std::string name = stored.is_object() ? stored.value("math", "libm") : "libm";
-    if (const auto math = parse_math(name)) step.config.set_math(*math);
+    if (const auto math = runs::stored_math(stored_step["config"])) step.config.set_math(*math);
 }
 
 runs::CampaignIndex open_campaign(const CampaignOptions& options, runs::CampaignConfig& config) {
