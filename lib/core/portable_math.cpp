@@ -3,6 +3,8 @@
 #include <array>
 #include <cmath>
 
+#include "core/portable_math_constants.hpp"
+
 namespace stepstone {
 
 std::string_view to_string(Math math) { return math == Math::portable ? "portable" : "libm"; }
@@ -20,34 +22,18 @@ namespace stepstone::portable {
 
 namespace {
 
-// pi/2 in three parts: the first two of 33 significant bits, so that k * part
-// is exact for |k| < 2^20
-constexpr double kHalfPi1 = 0x1.921fb54400000p+0;
-constexpr double kHalfPi2 = 0x1.0b4611a600000p-34;
-constexpr double kHalfPi3 = 0x1.3198a2e037073p-69;
-constexpr double kTwoOverPi = 0x1.45f306dc9c883p-1;
+using detail::inverse_factorial;
+using detail::kCosCoefficients;
+using detail::kHalfPi1;
+using detail::kHalfPi2;
+using detail::kHalfPi3;
+using detail::kSinCoefficients;
+using detail::kTwoOverPi;
 
 // ln 2 in two parts, the first of 33 bits
 constexpr double kLn2Hi = 0x1.62e42fef00000p-1;
 constexpr double kLn2Lo = 0x1.473de6af278edp-34;
 constexpr double kInvLn2 = 0x1.71547652b82fep+0;
-
-// 1 / n!, rounded once
-constexpr double inverse_factorial(int n) {
-    double f = 1.0;
-    for (int i = 2; i <= n; ++i) f *= static_cast<double>(i);
-    return 1.0 / f;
-}
-
-// The Taylor coefficients (-1)^(k+1) / (first + 2k)!, k = 0..7, each rounded once: from 1/3! for
-// sin's series, from 1/4! for cos's
-constexpr std::array<double, 8> alternating_coefficients(int first) {
-    std::array<double, 8> c{};
-    for (int k = 0; k < 8; ++k) c[k] = (k % 2 == 0 ? -1.0 : 1.0) * inverse_factorial(first + 2 * k);
-    return c;
-}
-constexpr auto kSinCoefficients = alternating_coefficients(3);
-constexpr auto kCosCoefficients = alternating_coefficients(4);
 
 // c[0] + z c[1] + ... + z^7 c[7], by Horner from the highest term
 double horner(double z, const std::array<double, 8>& c) {

@@ -1,6 +1,7 @@
 #include "sim/episode.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 
 #include "core/assert.hpp"
@@ -70,9 +71,11 @@ void Episode::read_inputs(float* inputs) const {
 }
 
 void Episode::act(float* outputs) {
-    STEPSTONE_ASSERT(start_ >= 0 && !stopped_);
-    const CosSinMemoScope scope(memos_);
+    clamp_outputs(outputs);
+    act_clamped(outputs);
+}
 
+void Episode::clamp_outputs(float* outputs) {
     // outputs at the sim boundary: NaN counted and replaced by 0, then clamped
     for (int i = 0; i < kOutputs; ++i) {
         if (std::isnan(outputs[i])) {
@@ -81,6 +84,26 @@ void Episode::act(float* outputs) {
         }
         outputs[i] = std::clamp(outputs[i], 0.0f, 1.0f);
     }
+}
+
+MoveAngles Episode::move_angles(const float* outputs) const {
+    return sim::move_angles(pose_, wheel_step(outputs[0]), wheel_step(outputs[1]));
+}
+
+void Episode::prime_cos_sin(const MoveAngles& angles, const CosSin* values) {
+    const auto put = [](CosSinMemo& memo, double angle, const CosSin& value) {
+        memo.bits = std::bit_cast<std::uint64_t>(angle);
+        memo.value = value;
+    };
+    put(memos_.heading, angles.heading, values[0]);
+    if (!angles.arc) return;
+    put(memos_.turn, angles.turn, values[1]);
+    put(memos_.rotation, angles.rotation, values[2]);
+}
+
+void Episode::act_clamped(const float* outputs) {
+    STEPSTONE_ASSERT(start_ >= 0 && !stopped_);
+    const CosSinMemoScope scope(memos_);
 
     record(outputs);
     apply_action(outputs[2]);

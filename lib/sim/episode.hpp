@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/assert.hpp"
+#include "core/portable_math_lanes.hpp"
 #include "sim/cos_sin.hpp"
 #include "sim/robot.hpp"
 #include "sim/sensors.hpp"
@@ -100,6 +101,17 @@ public:
     /// current pose, ticks the switch timer, moves, applies the stand-still
     /// rule and senses at the new pose.
     void act(float* outputs);
+    /// act() in two halves, for lanes of episodes: the NaN replacement and
+    /// the clamping, then the rest on the clamped outputs.
+    void clamp_outputs(float* outputs);
+    void act_clamped(const float* outputs);
+    /// The angles whose cos and sin act_clamped(outputs) will take (robot.hpp).
+    MoveAngles move_angles(const float* outputs) const;
+    /// Puts the cos and sin of `angles` (in MoveAngles' order: the heading,
+    /// then for an arc the turn and the rotation) where act_clamped() looks
+    /// for them first: the memos, which hold exact values, so a wrong value
+    /// here would change results; the callers give portable::sincos's bits.
+    void prime_cos_sin(const MoveAngles& angles, const CosSin* values);
     /// Ends the episode: pads the recording after an early stop, returns the result.
     EpisodeResult finish();
 
@@ -224,8 +236,15 @@ void run_episode_queue(const Task& task, Controller& controller, std::size_t job
     };
     for (std::size_t l = 0; l < lanes; ++l) take_next_job(l);
 
+    // portable runs take the cos and sin of every lane's move at once (portable::sincos_lanes,
+    // the scalar function's bits) and hand them to the episodes' memos; libm runs do not
+    const bool portable = config.math == Math::portable;
     std::array<float, kInputs> inputs{};
-    std::array<float, kOutputs> outputs{};
+    std::array<std::array<float, kOutputs>, 32> outputs{};
+    std::array<MoveAngles, 32> moves{};
+    std::array<double, 3 * 32> angles{};
+    std::array<double, 3 * 32> sines{};
+    std::array<double, 3 * 32> cosines{};
     while (running != 0) {
         for (std::uint32_t bits = running; bits != 0; bits &= bits - 1) {
             const auto l = static_cast<std::size_t>(std::countr_zero(bits));
@@ -233,12 +252,35 @@ void run_episode_queue(const Task& task, Controller& controller, std::size_t job
             controller.set_inputs(l, inputs.data());
         }
         controller.step();
+        std::size_t angle_count = 0;
+        for (std::uint32_t bits = running; bits != 0; bits &= bits - 1) {
+            const auto l = static_cast<std::size_t>(std::countr_zero(bits));
+            controller.get_outputs(l, outputs[l].data());
+            episodes[l]->clamp_outputs(outputs[l].data());
+            if (!portable) continue;
+            const MoveAngles move = episodes[l]->move_angles(outputs[l].data());
+            moves[l] = move;
+            angles[angle_count++] = move.heading;
+            if (move.arc) {
+                angles[angle_count++] = move.turn;
+                angles[angle_count++] = move.rotation;
+            }
+        }
+        portable::sincos_lanes(angles.data(), sines.data(), cosines.data(), angle_count);
+        std::size_t next_angle = 0;
         for (std::uint32_t bits = running; bits != 0; bits &= bits - 1) {
             const auto l = static_cast<std::size_t>(std::countr_zero(bits));
             Episode& episode = *episodes[l];
             Lane& lane = lane_state[l];
-            controller.get_outputs(l, outputs.data());
-            episode.act(outputs.data());
+            if (portable) {
+                std::array<CosSin, 3> values;
+                const std::size_t count = moves[l].arc ? 3 : 1;
+                for (std::size_t i = 0; i < count; ++i, ++next_angle) {
+                    values[i] = CosSin{cosines[next_angle], sines[next_angle]};
+                }
+                episode.prime_cos_sin(moves[l], values.data());
+            }
+            episode.act_clamped(outputs[l].data());
             // run_episode's loops: the next step, else the next start, else the end
             bool ended = episode.stopped();
             if (!ended && ++lane.step == config.steps_per_start) {

@@ -16,32 +16,44 @@ double normalize_angle(double angle) {
 
 namespace {
 
-// the arc of a turning move, with the run's sin and cos known at compile time (one branch a move)
+// a move's angles, one expression each for move_pose() and move_angles()
+double turn_of(double left, double right) { return (right - left) / kWheelBase; }
+bool is_straight(double alpha) { return std::fabs(alpha) <= 1e-10; }
+double rotation_of(const Pose& pose) { return pose.heading - kPi / 2.0; }
+double heading_after(const Pose& pose, double alpha) { return normalize_angle(pose.heading + alpha); }
+
+// the arc of a turning move, with the run's sin and cos known at compile time (one branch a move);
+// the portable one reads the rotation memo, which the lanes of run_episode_queue fill ahead
 template <bool Portable>
-Pose move_arc(const Pose& pose, double left, double alpha, CosSinMemo& turn_memo) {
+Pose move_arc(const Pose& pose, double left, double alpha, CosSinMemos& memos) {
     Pose next = pose;
     // an arc about the instantaneous centre, computed in the robot frame
     // (forward = local +y) and rotated by heading - pi/2 into the world
     const double radius = left / alpha + kWheelBase / 2.0;
-    const CosSin turn = turn_memo.get(alpha, Portable);
+    const CosSin turn = memos.turn.get(alpha, Portable);
     const double local_x = (turn.c - 1.0) * radius;
     const double local_y = turn.s * radius;
-    const CosSin rotation = CosSinMemo::compute<Portable>(pose.heading - kPi / 2.0);
+    CosSin rotation;
+    if constexpr (Portable) {
+        rotation = memos.rotation.get(rotation_of(pose), true);
+    } else {
+        rotation = CosSinMemo::compute<false>(rotation_of(pose));
+    }
     const double c = rotation.c;
     const double s = rotation.s;
     next.x += local_x * c - local_y * s;
     next.y += local_x * s + local_y * c;
-    next.heading = normalize_angle(pose.heading + alpha);
+    next.heading = heading_after(pose, alpha);
     return next;
 }
 
 }  // namespace
 
 Pose move_pose(const Pose& pose, double left, double right) {
-    const double alpha = (right - left) / kWheelBase;
+    const double alpha = turn_of(left, right);
 
     // nearly equal wheels: a straight line of the left wheel's length
-    if (std::fabs(alpha) <= 1e-10) {
+    if (is_straight(alpha)) {
         Pose next = pose;
         const CosSin heading = cos_sin(pose.heading);
         next.x += left * heading.c;
@@ -49,8 +61,14 @@ Pose move_pose(const Pose& pose, double left, double right) {
         return next;
     }
     CosSinMemos& memos = current_memos();
-    return memos.portable ? move_arc<true>(pose, left, alpha, memos.turn)
-                          : move_arc<false>(pose, left, alpha, memos.turn);
+    return memos.portable ? move_arc<true>(pose, left, alpha, memos)
+                          : move_arc<false>(pose, left, alpha, memos);
+}
+
+MoveAngles move_angles(const Pose& pose, double left, double right) {
+    const double alpha = turn_of(left, right);
+    if (is_straight(alpha)) return {false, 0.0, 0.0, pose.heading};
+    return {true, alpha, rotation_of(pose), heading_after(pose, alpha)};
 }
 
 bool is_still(const Pose& before, const Pose& after) {

@@ -1,0 +1,80 @@
+#include "core/portable_math_lanes.hpp"
+
+#include "core/cpu.hpp"
+#include "core/portable_math.hpp"
+#if defined(__x86_64__) || defined(__i386__)
+#define STEPSTONE_CORE_HAVE_AVX2_SINCOS 1
+#include <immintrin.h>
+#endif
+
+#include "core/portable_math_constants.hpp"
+
+namespace stepstone::portable {
+
+namespace {
+
+#ifdef STEPSTONE_CORE_HAVE_AVX2_SINCOS
+// c[0] + z c[1] + ... + z^7 c[7] in four lanes, as portable_math.cpp's horner()
+[[gnu::target("avx2")]] inline __m256d horner4(__m256d z, const std::array<double, 8>& c) {
+    __m256d p = _mm256_set1_pd(c[7]);
+    for (int k = 6; k >= 0; --k)
+        p = _mm256_add_pd(_mm256_set1_pd(c[static_cast<std::size_t>(k)]), _mm256_mul_pd(z, p));
+    return p;
+}
+
+// portable::sincos of x[0..3], every lane the scalar function's operations in its order
+[[gnu::target("avx2")]] void sincos4(const double* x, double* s, double* c) {
+    const __m256d vx = _mm256_loadu_pd(x);
+    // nearbyint in the default rounding mode: to nearest, ties to even
+    const __m256d k = _mm256_round_pd(_mm256_mul_pd(vx, _mm256_set1_pd(detail::kTwoOverPi)),
+                                      _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC);
+    const __m256d r =
+        _mm256_sub_pd(_mm256_sub_pd(_mm256_sub_pd(vx, _mm256_mul_pd(k, _mm256_set1_pd(detail::kHalfPi1))),
+                                    _mm256_mul_pd(k, _mm256_set1_pd(detail::kHalfPi2))),
+                      _mm256_mul_pd(k, _mm256_set1_pd(detail::kHalfPi3)));
+    const __m256d z = _mm256_mul_pd(r, r);
+    // sin_kernel: r + r (z p)
+    const __m256d sr =
+        _mm256_add_pd(r, _mm256_mul_pd(r, _mm256_mul_pd(z, horner4(z, detail::kSinCoefficients))));
+    // cos_kernel: 1 - (z/2 + z (z p))
+    const __m256d pc = horner4(z, detail::kCosCoefficients);
+    const __m256d half = _mm256_mul_pd(_mm256_set1_pd(0.5), z);
+    const __m256d cr =
+        _mm256_sub_pd(_mm256_set1_pd(1.0), _mm256_add_pd(half, _mm256_mul_pd(z, _mm256_mul_pd(z, pc))));
+    // the quadrant k mod 4 (|k| < 2^31: the 32-bit conversion is exact): odd quadrants swap sine
+    // and cosine, quadrants 2 and 3 negate the sine, 1 and 2 the cosine
+    const __m128i q = _mm256_cvtpd_epi32(k);
+    const __m256i q64 = _mm256_cvtepi32_epi64(q);
+    const __m256i one = _mm256_set1_epi64x(1);
+    const __m256i two = _mm256_set1_epi64x(2);
+    const __m256d swap = _mm256_castsi256_pd(_mm256_cmpeq_epi64(_mm256_and_si256(q64, one), one));
+    const __m256i sign_bit = _mm256_set1_epi64x(static_cast<long long>(0x8000000000000000ull));
+    const __m256d sin_sign =
+        _mm256_castsi256_pd(_mm256_and_si256(_mm256_cmpeq_epi64(_mm256_and_si256(q64, two), two), sign_bit));
+    const __m256i q1 = _mm256_add_epi64(q64, one);
+    const __m256d cos_sign =
+        _mm256_castsi256_pd(_mm256_and_si256(_mm256_cmpeq_epi64(_mm256_and_si256(q1, two), two), sign_bit));
+    const __m256d vs = _mm256_xor_pd(_mm256_blendv_pd(sr, cr, swap), sin_sign);
+    const __m256d vc = _mm256_xor_pd(_mm256_blendv_pd(cr, sr, swap), cos_sign);
+    _mm256_storeu_pd(s, vs);
+    _mm256_storeu_pd(c, vc);
+}
+#endif
+
+}  // namespace
+
+void sincos_lanes_generic(const double* x, double* s, double* c, std::size_t count) {
+    for (std::size_t i = 0; i < count; ++i) sincos(x[i], s[i], c[i]);
+}
+
+void sincos_lanes(const double* x, double* s, double* c, std::size_t count) {
+    std::size_t i = 0;
+#ifdef STEPSTONE_CORE_HAVE_AVX2_SINCOS
+    if (avx2_kernels_allowed()) {
+        for (; i + 4 <= count; i += 4) sincos4(x + i, s + i, c + i);
+    }
+#endif
+    sincos_lanes_generic(x + i, s + i, c + i, count - i);
+}
+
+}  // namespace stepstone::portable
