@@ -91,7 +91,7 @@ void add_episode_cases(Registry& registry) {
         Case{"episode", "evaluations",
              "8 12,000-step source evaluations with 12-15-3 networks and recording: exp::evaluate_all on "
              "1 thread (lanes) vs bitmap + pointer network, one after the other",
-             8.0, make_episode_workload});
+             14.0, make_episode_workload});
 }
 
 }  // namespace stepstone::bench

@@ -13,6 +13,7 @@ void add_builtin_cases(Registry& registry) {
     add_kb_cases(registry);
     add_shaped_cases(registry);
     add_evolve_cases(registry);
+    add_evolved_cases(registry);
     add_mpi_cases(registry);
     add_render_cases(registry);
     add_serve_cases(registry);

@@ -24,6 +24,9 @@ void add_diversity_cases(Registry& registry);
 /// `evolve`: whole generations of the source task, 2 threads vs 1.
 void add_evolve_cases(Registry& registry);
 
+/// `evolved`: an evolved population's evaluations, portable math (lanes) vs libm.
+void add_evolved_cases(Registry& registry);
+
 /// `mpi`: evolve --mpi on 2 ranks vs 1 process on 2 threads (when built with Open MPI).
 void add_mpi_cases(Registry& registry);
 

@@ -12,7 +12,7 @@ namespace stepstone::nn {
 
 /// Up to kLanes networks stepped together, one per lane of a vector of 8
 /// floats: the evaluation of several policies at once (docs/performance.md:
-/// lanes of policies).
+/// episode, lanes).
 ///
 /// The networks may differ in hidden neurons and edges; they share the input
 /// and output counts. Each is laid out as the dense Network is (one row per
