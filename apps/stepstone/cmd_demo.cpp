@@ -36,7 +36,7 @@ void run_demo(const DemoFlags& flags) {
     fs::create_directories(dir);
     const fs::path camp = dir / "campaign";
 
-    // 1. the paper's protocol in small: source run, its KB, the five treatments on the target task
+    // 1. the paper's protocol in small: source run, its KB, the five treatments and a seeded one on the target task
     const bool resume = fs::exists(camp / "campaign.db");
     std::cout << "== campaign (" << config.string() << ") -> " << camp.string()
               << (resume ? " (resumed: finished runs are kept)" : "") << std::endl;
@@ -73,11 +73,10 @@ void run_demo(const DemoFlags& flags) {
     std::cout << "== statistics (stepstone stats " << camp.string() << ")\n";
     runs::write_text(std::cout, runs::campaign_stats(camp, std::nullopt, 0.5));
     std::cout
-        << "   a demo is one small sample (a few seeds, a few dozen generations): it shows the machinery,\n"
-           "   not whether the KB helps. What the pre-registered experiments can and cannot say is in\n"
-           "   docs/results.md (sections 9 to 12): shaping on the target task at the paper's horizon (L), "
-           "and\n"
-           "   starting the target search from the source run's policies (E4, evolve --seed-from).\n";
+        << "   a demo is one small sample (3 seeds, 30 generations): it shows the machinery, and its seed arm\n"
+           "   (started from a paper-size source run's 100 best policies, examples/fixtures/demo_seeds.db)\n"
+           "   shows transfer by reuse. What the pre-registered experiments found, on 20 to 40 runs an arm,\n"
+           "   is in docs/results.md (sections 9 to 12).\n";
     std::cout << "   query the runs with SQL: sqlite3 " << (camp / "campaign.db").string()
               << " 'SELECT file, best_reward FROM campaign_run'" << std::endl;
 
