@@ -408,8 +408,8 @@ TEST_CASE("scripts/demo-seeds cuts a run to the K policies `with: best` takes, a
     CHECK(connection.query_int("SELECT count(*) FROM generation").value_or(-1) == 1);
 
     // seeding from the cut and from the whole run gives one generation 0
-    const std::vector<std::string> args{"--retain", "all", "--generations", "0", "--seed-with", "best",
-                                        "--seed-count", "3"};
+    const std::vector<std::string> args{"--retain",    "all",  "--generations", "0",
+                                        "--seed-with", "best", "--seed-count",  "3"};
     auto with_source = [&](const fs::path& from) {
         auto all = args;
         all.insert(all.end(), {"--seed-from", from.string()});

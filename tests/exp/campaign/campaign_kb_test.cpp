@@ -89,8 +89,10 @@ TEST_CASE("the demo's KB fixture gunzips to a KB with rewards spread over a rang
     CHECK_FALSE(std::filesystem::exists(dir / "x.db"));
 }
 
-TEST_CASE("the demo's seed fixture: a paper-size source run's 100 best policies, a finished run of 12 -> 3 networks",
-          "[exp][campaign][examples][seed]") {
+TEST_CASE(
+    "the demo's seed fixture: a paper-size source run's 100 best policies, a finished run of 12 -> 3 "
+    "networks",
+    "[exp][campaign][examples][seed]") {
     const std::filesystem::path examples = std::filesystem::path(STEPSTONE_SOURCE_DIR) / "examples";
     const auto quick = runs::CampaignConfig::load(examples / "campaign_quick.json");
     REQUIRE(quick.seed);
@@ -105,7 +107,8 @@ TEST_CASE("the demo's seed fixture: a paper-size source run's 100 best policies,
     CHECK(connection.query_int("SELECT generations_done FROM run").value_or(-1) == 4000);
     // E1's source run of seed 1 (docs/results.md section 1) reached 0.375 (9 balls of 24) and
     // stored more than 100 genomes at it: the 100 best are all at that reward
-    CHECK(connection.query_int("SELECT count(*) FROM individual WHERE reward = 9.0 / 24").value_or(-1) == 100);
+    CHECK(connection.query_int("SELECT count(*) FROM individual WHERE reward = 9.0 / 24").value_or(-1) ==
+          100);
     auto select = connection.prepare("SELECT genome FROM genome");
     int genomes = 0;
     while (select.step()) {
