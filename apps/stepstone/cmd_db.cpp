@@ -8,10 +8,10 @@
 #include "core/error.hpp"
 #include "core/math_fingerprint.hpp"
 #include "core/text.hpp"
-#include "core/writer_lock.hpp"
 #include "db/database.hpp"
 #include "db/digest.hpp"
 #include "db/inspect.hpp"
+#include "exp/parallel/writer_lock.hpp"
 #include "runs/run_store.hpp"
 
 namespace stepstone::app {

@@ -4,10 +4,10 @@
 
 #include "core/error.hpp"
 #include "core/text.hpp"
-#include "core/writer_lock.hpp"
 #include "db/database.hpp"
 #include "exp/campaign/campaign_mpi.hpp"
 #include "exp/campaign/campaign_runner.hpp"
+#include "exp/parallel/writer_lock.hpp"
 
 namespace stepstone::exp {
 
