@@ -15,10 +15,10 @@
 #include <memory>
 
 #include "bench/cases.hpp"
-#include "core/child_process.hpp"
 #include "core/error.hpp"
-#include "core/mpi.hpp"
 #include "core/text.hpp"
+#include "exp/parallel/child_process.hpp"
+#include "exp/parallel/mpi.hpp"
 
 namespace stepstone::bench {
 

@@ -2,6 +2,9 @@
 # The structure docs/architecture.md describes, checked on the source tree:
 #   1. the read side (lib/runs) and what reads runs (lib/report, lib/service)
 #      include nothing of the engine (lib/exp), and link no engine target;
+#   1b. the SQL that reads run and campaign files lives in lib/runs: lib/service includes
+#      nothing of lib/report, and neither names db::sql, Statement or sqlite3, nor hands a
+#      literal to a connection's prepare, exec or query_int;
 #   2. no library message names a CLI flag (--name in a string literal);
 #      the libraries name options as `name` (core/text.hpp: option_name);
 #   3. no library or app file is over 600 lines;
@@ -23,6 +26,12 @@ for module in runs report service; do
         fail "lib/$module/CMakeLists.txt links stepstone::exp"
     fi
 done
+
+while IFS= read -r hit; do fail "lib/service uses the report module: $hit"; done \
+    < <(grep -rn '#include "report/' lib/service || true)
+while IFS= read -r hit; do fail "SQL outside lib/runs (read runs and campaigns through it): $hit"; done \
+    < <(grep -rnE 'db::sql\b|\bStatement\b|sqlite3|\b(prepare|prepare_all|exec|query_int)\(\s*"' lib/report lib/service \
+            | grep -vE '^[^:]+:[0-9]+:\s*//' || true)
 
 # string literals holding --word, outside comments; bench is the benchmark's own
 # harness (it starts mpirun and stepstone with their flags)
@@ -63,4 +72,4 @@ if [ "$failures" -gt 0 ]; then
     echo "layers: $failures violation(s)"
     exit 1
 fi
-echo "layers: runs, report and service stay off the engine; the service on public library APIs only; no flag in a library message; no file over 600 lines"
+echo "layers: runs, report and service stay off the engine; SQL reads in runs only; the service on public library APIs only; no flag in a library message; no file over 600 lines"

@@ -1,7 +1,7 @@
 #include <catch2/catch.hpp>
 #include <cstdlib>
 
-#include "core/mpi.hpp"
+#include "exp/parallel/mpi.hpp"
 #include "support/run_cli.hpp"
 
 using namespace stepstone;

@@ -14,7 +14,7 @@ prefix=$work/prefix
 cmake --install "$build" --prefix "$prefix" > "$work/install.log"
 
 # (the library folder is lib/ or lib/<multiarch>/, as GNUInstallDirs chooses for the prefix)
-for file in bin/stepstone include/stepstone/evo/nsga2.hpp include/stepstone/core/version.hpp \
+for file in bin/stepstone include/stepstone/evo/pareto.hpp include/stepstone/core/version.hpp \
         share/stepstone/schema/0001_init.sql share/stepstone/queries/kb_growth.sql; do
     [[ -e $prefix/$file ]] || fail "not installed: $file"
 done

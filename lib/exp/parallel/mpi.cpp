@@ -1,4 +1,4 @@
-#include "core/mpi.hpp"
+#include "exp/parallel/mpi.hpp"
 
 #include <unistd.h>
 

@@ -12,7 +12,18 @@
 #include "evo/pareto.hpp"
 #include "evo/selection.hpp"
 
-namespace stepstone::evo {
+// The example's NSGA-II driver, built from lib/evo's public steps (select_parents, survivors).
+// stepstone's own runs are driven by the engine (exp::Evolution); this sequential driver
+// serves examples/zdt1 and the tests of those steps (tests/evo/nsga2_test.cpp).
+namespace example {
+
+using stepstone::concat;
+using stepstone::ConfigError;
+using stepstone::Purpose;
+using stepstone::Rng;
+using stepstone::evo::Objectives;
+using stepstone::evo::select_parents;
+using stepstone::evo::survivors;
 
 /// The state of an NSGA-II run between generations: plain data that a driver
 /// can store and restore to resume exactly.
@@ -145,4 +156,4 @@ private:
     std::uint64_t seed_;
 };
 
-}  // namespace stepstone::evo
+}  // namespace example

@@ -1,4 +1,4 @@
-#include "core/writer_lock.hpp"
+#include "exp/parallel/writer_lock.hpp"
 
 #include <fcntl.h>
 #include <sys/file.h>
@@ -64,7 +64,8 @@ WriterLock::WriterLock(const fs::path& file) : lock_(lock_path(file)) {
             }
             throw Error(concat(file.string(), ": cannot lock ", lock_.string(), ": ", std::strerror(error)));
         }
-        struct stat held {}, named {};
+        struct stat held {};
+        struct stat named {};
         if (::fstat(fd, &held) == 0 && ::stat(lock_.c_str(), &named) == 0 && held.st_ino == named.st_ino &&
             held.st_dev == named.st_dev) {
             fd_ = fd;
@@ -90,7 +91,8 @@ WriterLock::~WriterLock() {
 namespace {
 
 volatile std::sig_atomic_t g_received = 0;
-struct sigaction g_previous_int {}, g_previous_term {};
+struct sigaction g_previous_int {};
+struct sigaction g_previous_term {};
 
 extern "C" void on_interrupt(int number) { g_received = number; }
 

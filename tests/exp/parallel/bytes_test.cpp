@@ -1,6 +1,6 @@
 // The byte strings the ranks of an MPI job exchange: written and read back
 // in the same order, a message of the wrong length refused with a message.
-#include "core/bytes.hpp"
+#include "exp/parallel/bytes.hpp"
 
 #include <catch2/catch.hpp>
 #include <cstdint>

@@ -1,7 +1,7 @@
 #pragma once
 
 // Byte strings of plain values, for messages between the ranks of an MPI job
-// (core/mpi.hpp). Values are copied bit for bit, so doubles arrive exactly;
+// (exp/parallel/mpi.hpp). Values are copied bit for bit, so doubles arrive exactly;
 // both ends run the same binary, so byte order and sizes agree.
 
 #include <cstring>

@@ -1,4 +1,4 @@
-#include "core/child_process.hpp"
+#include "exp/parallel/child_process.hpp"
 
 #include <fcntl.h>
 #include <sys/prctl.h>
