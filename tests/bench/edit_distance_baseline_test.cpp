@@ -2,9 +2,9 @@
 
 #include <vector>
 
-#include "bench/edit_distance_baseline.hpp"
+#include "reference/edit_distance_baseline.hpp"
 
-using namespace stepstone::bench;
+using namespace stepstone::reference;
 
 TEST_CASE("the baseline edit distance follows the original's costs", "[bench][diversity]") {
     using Cells = std::vector<GridCell>;

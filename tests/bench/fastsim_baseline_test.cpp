@@ -4,9 +4,9 @@
 #include <numbers>
 #include <vector>
 
-#include "bench/fastsim_baseline.hpp"
+#include "reference/fastsim_baseline.hpp"
 
-using namespace stepstone::bench;
+using namespace stepstone::reference;
 
 namespace {
 

@@ -7,11 +7,12 @@
 
 #include "nn/activation.hpp"
 #include "nn/network.hpp"
-#include "nn/reference_network.hpp"
+#include "reference/reference_network.hpp"
 #include "support.hpp"
 
 using namespace stepstone;
 using namespace stepstone::nn;
+using stepstone::reference::ReferenceNetwork;
 
 namespace {
 

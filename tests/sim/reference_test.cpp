@@ -5,9 +5,10 @@
 #include "core/rng.hpp"
 #include "sim/task.hpp"
 #include "sim/units.hpp"
-#include "sim/world.hpp"
+#include "reference/box2d_world.hpp"
 
 using namespace stepstone::sim;
+using stepstone::reference::ReferenceWorld;
 
 namespace {
 

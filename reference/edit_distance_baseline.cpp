@@ -1,11 +1,11 @@
-#include "bench/edit_distance_baseline.hpp"
+#include "reference/edit_distance_baseline.hpp"
 
 #include <algorithm>
 #include <cstdlib>
 
 #include "core/rng.hpp"
 
-namespace stepstone::bench {
+namespace stepstone::reference {
 
 namespace {
 
@@ -76,4 +76,4 @@ std::vector<std::vector<GridCell>> random_trajectories(int count, int length, st
     return out;
 }
 
-}  // namespace stepstone::bench
+}  // namespace stepstone::reference

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <chrono>
 #include <stdexcept>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "stats/summary.hpp"
@@ -28,6 +30,16 @@ double measure(const Work& work, double min_seconds, const std::string& what) {
 }
 
 }  // namespace
+
+PairedRatio paired_ratio(std::span<const double> baseline_rates, std::span<const double> candidate_rates) {
+    if (baseline_rates.empty() || baseline_rates.size() != candidate_rates.size())
+        throw std::invalid_argument("paired_ratio: " + std::to_string(baseline_rates.size()) + " baseline and " +
+                                    std::to_string(candidate_rates.size()) + " candidate rates");
+    std::vector<double> ratios;
+    for (std::size_t i = 0; i < baseline_rates.size(); ++i) ratios.push_back(candidate_rates[i] / baseline_rates[i]);
+    const auto [low, high] = std::minmax_element(ratios.begin(), ratios.end());
+    return PairedRatio{stats::median(ratios), *low, *high};
+}
 
 RunOptions full_options() { return RunOptions{}; }
 
@@ -66,8 +78,13 @@ CaseResult run_case(const Case& c, const RunOptions& options, const RoundCallbac
     result.unit = c.unit;
     result.baseline_per_s = stats::median(baseline_rates);
     result.candidate_per_s = stats::median(candidate_rates);
-    result.ratio = result.candidate_per_s / result.baseline_per_s;
+    const PairedRatio paired = paired_ratio(baseline_rates, candidate_rates);
+    result.ratio = paired.median;
+    result.ratio_min = paired.min;
+    result.ratio_max = paired.max;
     result.target_ratio = c.target_ratio;
+    result.baseline_rates = std::move(baseline_rates);
+    result.candidate_rates = std::move(candidate_rates);
     return result;
 }
 

@@ -10,6 +10,8 @@
 
 namespace stepstone::bench {
 
+using namespace stepstone::reference;  // the baselines
+
 nn::Genome genome_from_spec(const NetworkSpec& spec, const nn::DnnConfig& config) {
     nn::Genome genome(static_cast<std::size_t>(spec.inputs), static_cast<std::size_t>(spec.outputs));
     for (int h = 0; h < spec.hidden; ++h) genome.add_hidden(0.5);

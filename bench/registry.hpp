@@ -38,12 +38,21 @@ struct Case {
 };
 
 /// The list of cases `stepstone bench` knows, in registration order.
+///
+/// A case with a parameter (`serve` and its number of clients) is registered as
+/// one row a value, named CASE/VALUE ("serve/2"): each row is timed and judged
+/// on its own, and CASE alone names every row of it (select, and --target).
 class Registry {
 public:
-    /// Adds a case. Throws std::invalid_argument if the name is taken or empty.
+    /// Adds a case. Throws std::invalid_argument if the name is empty or taken,
+    /// or if it would make a name ambiguous: a row CASE/VALUE beside a case
+    /// named CASE, or the reverse.
     void add(Case c);
-    /// The case named `name`, or nullptr if there is none.
+    /// The case or row named `name`, or nullptr if there is none.
     const Case* find(std::string_view name) const;
+    /// The case or row named `name`, or every row CASE/VALUE of the case `name`
+    /// in registration order; empty if there is none.
+    std::vector<const Case*> select(std::string_view name) const;
     /// Every case, in registration order.
     const std::vector<Case>& cases() const { return cases_; }
     /// The names of every case, in registration order.

@@ -1,11 +1,11 @@
-#include "bench/fastsim_baseline.hpp"
+#include "reference/fastsim_baseline.hpp"
 
 #include <cstdlib>
 #include <numbers>
 #include <stdexcept>
 #include <string>
 
-namespace stepstone::bench {
+namespace stepstone::reference {
 
 namespace {
 
@@ -423,4 +423,4 @@ BitmapEpisodeResult BitmapCollectBall::finish(int steps, const BitmapRecording& 
     return result;
 }
 
-}  // namespace stepstone::bench
+}  // namespace stepstone::reference

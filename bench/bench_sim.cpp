@@ -3,7 +3,7 @@
 #include <memory>
 
 #include "bench/cases.hpp"
-#include "bench/fastsim_baseline.hpp"
+#include "reference/fastsim_baseline.hpp"
 #include "bench/drive_plan.hpp"
 #include "sim/arena.hpp"
 #include "sim/robot.hpp"
@@ -11,6 +11,8 @@
 #include "sim/task.hpp"
 
 namespace stepstone::bench {
+
+using namespace stepstone::reference;  // the baselines
 
 namespace {
 

@@ -6,7 +6,7 @@
 #include "sim/arena.hpp"
 #include "sim/sensors.hpp"
 
-namespace stepstone::sim {
+namespace stepstone::reference {
 
 /// The reference geometry: the arena's walls as static Box2D 2.4 box fixtures,
 /// lasers and line of sight by b2World::RayCast, the robot disc by an AABB
@@ -17,16 +17,16 @@ namespace stepstone::sim {
 class ReferenceWorld {
 public:
     /// Builds the Box2D world from the arena's walls; keeps a copy of `lights`.
-    ReferenceWorld(const Arena& arena, std::span<const Light> lights);
+    ReferenceWorld(const sim::Arena& arena, std::span<const sim::Light> lights);
     ~ReferenceWorld();
     ReferenceWorld(const ReferenceWorld&) = delete;
     ReferenceWorld& operator=(const ReferenceWorld&) = delete;
 
     /// Same contract as sense(); bearings from atan2 as the original code.
-    void sense(const Pose& pose, const WorldState& state, SensorReadings& out) const;
+    void sense(const sim::Pose& pose, const sim::WorldState& state, sim::SensorReadings& out) const;
     /// Same contract as Arena::contact(); bumpers from the polygon's vertices
     /// and Box2D's closest points.
-    Contact contact(const Pose& pose, bool door_open) const;
+    sim::Contact contact(const sim::Pose& pose, bool door_open) const;
     /// Distance to the first wall along a ray, or -1 (same contract as Arena::ray_distance).
     double ray_distance(double x, double y, double dx, double dy, double range, bool door_open) const;
 
@@ -35,4 +35,4 @@ private:
     std::unique_ptr<Impl> impl_;
 };
 
-}  // namespace stepstone::sim
+}  // namespace stepstone::reference

@@ -8,11 +8,13 @@
 #include <vector>
 
 #include "bench/cases.hpp"
-#include "bench/edit_distance_baseline.hpp"
+#include "reference/edit_distance_baseline.hpp"
 #include "core/error.hpp"
 #include "evo/diversity_matrix.hpp"
 
 namespace stepstone::bench {
+
+using namespace stepstone::reference;  // the baselines
 
 namespace {
 

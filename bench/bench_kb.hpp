@@ -21,7 +21,7 @@ inline constexpr std::size_t kSegmentsPerPolicy = 200;
 double seconds_since(std::chrono::steady_clock::time_point start);
 
 /// Registers `kb` (one paper generation's observe step: index vs batched brute
-/// force), `kb-loop` (same, vs a plain loop), `kb-uniform` (uniform random
+/// force), `kb-uniform` (uniform random
 /// values, index vs batched brute force), `kb-load` (building a KB and its
 /// index from arrays vs copying the arrays) and `kb-flann` (add_kb_flann_case).
 void add_kb_cases(Registry& registry);
@@ -43,7 +43,6 @@ struct KbMeasurements {
     double observe_seconds = 0;           ///< the generation's observe step with the index
     double index_queries_per_s = 0;       ///< queries / observe_seconds
     double batched_queries_per_s = 0;     ///< batched brute force on the same workload (a slice)
-    double loop_queries_per_s = 0;        ///< plain loop (a slice)
     double candidates_per_query = 0;      ///< segments passing the lower bound per query
     double uniform_index_queries_per_s = 0;    ///< uniform data, index (brute-force fallback)
     double uniform_batched_queries_per_s = 0;  ///< uniform data, batched brute force

@@ -4,12 +4,14 @@
 #include <vector>
 
 #include "bench/cases.hpp"
-#include "bench/pointer_network.hpp"
+#include "reference/pointer_network.hpp"
 #include "bench/spec_genome.hpp"
 #include "core/rng.hpp"
 #include "nn/network.hpp"
 
 namespace stepstone::bench {
+
+using namespace stepstone::reference;  // the baselines
 
 namespace {
 

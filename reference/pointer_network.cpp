@@ -1,4 +1,4 @@
-#include "bench/pointer_network.hpp"
+#include "reference/pointer_network.hpp"
 
 #include <cmath>
 #include <stdexcept>
@@ -6,7 +6,7 @@
 
 #include "core/rng.hpp"
 
-namespace stepstone::bench {
+namespace stepstone::reference {
 
 NetworkSpec random_network_spec(int inputs, int hidden, int outputs, int connections, std::uint64_t seed) {
     NetworkSpec spec;
@@ -102,4 +102,4 @@ void PointerNetwork::step(const float* in, float* out) {
     for (std::size_t i = 0; i < outputs_.size(); ++i) out[i] = outputs_[i]->current;
 }
 
-}  // namespace stepstone::bench
+}  // namespace stepstone::reference

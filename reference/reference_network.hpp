@@ -6,9 +6,9 @@
 #include "nn/dnn_config.hpp"
 #include "nn/genome.hpp"
 
-namespace stepstone::nn {
+namespace stepstone::reference {
 
-/// A plain evaluation of the genome graph in nn2's manner (docs/original.md: network,
+/// The tests' oracle of nn::Network and nn::NetworkLanes: a plain evaluation of the genome graph in nn2's manner (docs/original.md: network,
 /// 8.4): one heap node per neuron in a linked list, each holding a linked list
 /// of incoming edges that point to their source node, walked every step.
 ///
@@ -17,10 +17,10 @@ namespace stepstone::nn {
 /// of Network compute. With `exact_exp` false it uses the same float sigmoid
 /// as Network and must equal it bit for bit (the tests' oracle). With `exact_exp` true it computes
 /// the sigmoid with std::exp in double, as nn2 does (the tests compare Network with it to a
-/// tolerance; `stepstone bench` times Network against the pointer network of lib/bench).
+/// tolerance; `stepstone bench` times Network against pointer_network.hpp's).
 class ReferenceNetwork {
 public:
-    ReferenceNetwork(const Genome& genome, const DnnConfig& config, bool exact_exp = false);
+    ReferenceNetwork(const nn::Genome& genome, const nn::DnnConfig& config, bool exact_exp = false);
     ReferenceNetwork(const ReferenceNetwork&) = delete;
     ReferenceNetwork& operator=(const ReferenceNetwork&) = delete;
 
@@ -36,7 +36,7 @@ private:
         float weight;
     };
     struct Node {
-        NeuronKind kind;
+        nn::NeuronKind kind;
         float scaled_bias;
         float state = 0.0f;
         float next = 0.0f;
@@ -47,9 +47,4 @@ private:
     bool exact_exp_;
 };
 
-/// Float weight of a connection gene, as both networks round it.
-float developed_weight(double gene, const DnnConfig& config);
-/// Float bias_scale * developed bias, as both networks round it.
-float developed_scaled_bias(double gene, const DnnConfig& config);
-
-}  // namespace stepstone::nn
+}  // namespace stepstone::reference

@@ -1,19 +1,21 @@
-#include "nn/reference_network.hpp"
+#include "reference/reference_network.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <vector>
 
 #include "nn/activation.hpp"
 
-namespace stepstone::nn {
+namespace stepstone::reference {
 
-float developed_weight(double gene, const DnnConfig& config) {
-    return static_cast<float>(develop(gene, config.weight_min, config.weight_max));
-}
+using namespace stepstone::nn;
 
-float developed_scaled_bias(double gene, const DnnConfig& config) {
-    return static_cast<float>(config.bias_scale * develop(gene, config.bias_min, config.bias_max));
-}
+namespace {
+
+// the sigmoid through std::exp in double, as nn2 computes it
+double sigmoid_exact(double scaled_bias, double sum) { return 1.0 / (1.0 + std::exp(scaled_bias - sum)); }
+
+}  // namespace
 
 ReferenceNetwork::ReferenceNetwork(const Genome& genome, const DnnConfig& config, bool exact_exp)
     : exact_exp_(exact_exp) {
@@ -61,4 +63,4 @@ void ReferenceNetwork::step(const float* inputs, float* outputs) {
     }
 }
 
-}  // namespace stepstone::nn
+}  // namespace stepstone::reference

@@ -1,6 +1,6 @@
-// `kb` cases: the knowledge base's exact index (lib/kb) against brute force.
-// The baselines stay here, as the way the paper's workload would be done
-// without the index: batched distance matrices, and a plain loop.
+// `kb` cases: the knowledge base's exact index (lib/kb) against brute force
+// (reference/brute_kb.hpp: batched distance matrices, the way the paper's
+// workload would be done without the index).
 
 #include "bench/bench_kb.hpp"
 
@@ -10,17 +10,9 @@
 #include <memory>
 #include <numbers>
 
-#if __has_include(<Eigen/Dense>)
-#include <Eigen/Dense>
-#define STEPSTONE_KB_BENCH_EIGEN 1
-#elif __has_include(<eigen3/Eigen/Dense>)
-#include <eigen3/Eigen/Dense>
-#define STEPSTONE_KB_BENCH_EIGEN 1
-#endif
-
 #include "core/rng.hpp"
-#include "kb/distance.hpp"
 #include "kb/knowledge_base.hpp"
+#include "reference/brute_kb.hpp"
 
 namespace stepstone::bench {
 
@@ -163,119 +155,6 @@ kb::KbParams paper_params() {
     return p;
 }
 
-// brute-force knowledge base: the same observe rule, every distance computed
-struct BruteKb {
-    std::vector<float> values;
-    std::vector<float> norms;  // squared norms, for the batched form
-    std::vector<double> cum_reward;
-    std::vector<std::uint64_t> count;
-    std::size_t initial = 0;
-    std::vector<float> distances;
-
-    explicit BruteKb(const kb::KnowledgeBase& kb) : values(kb.values().begin(), kb.values().end()) {
-        for (const auto& r : kb.records()) {
-            cum_reward.push_back(r.cum_reward);
-            count.push_back(r.count);
-        }
-        initial = count.size();
-        for (std::size_t i = 0; i < initial; ++i) norms.push_back(squared_norm(values.data() + i * kDim));
-    }
-
-    static float squared_norm(const float* v) {
-        float s = 0;
-        for (std::size_t k = 0; k < kDim; ++k) s += v[k] * v[k];
-        return s;
-    }
-
-    void reset() {
-        values.resize(initial * kDim);
-        norms.resize(initial);
-        cum_reward.resize(initial);
-        count.resize(initial);
-    }
-
-    void credit_or_insert(const float* s, double reward, std::optional<std::size_t> best, double best_d2) {
-        if (best && best_d2 < kDelta * kDelta) {
-            cum_reward[*best] += reward;
-            count[*best] += 1;
-        } else {
-            values.insert(values.end(), s, s + kDim);
-            norms.push_back(squared_norm(s));
-            cum_reward.push_back(reward);
-            count.push_back(1);
-        }
-    }
-
-    // one policy: a distance matrix (||q||^2 + ||k||^2 - 2 q.k) against the
-    // KB as it was before the policy, then segments inserted by this policy
-    // checked one by one
-    void observe_batched(const float* segs, std::size_t n_segs, double reward) {
-        const std::size_t n = count.size();
-        distances.resize(n_segs * n);
-#if STEPSTONE_KB_BENCH_EIGEN
-        using Rows = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-        const Eigen::Map<const Rows> k(values.data(), static_cast<Eigen::Index>(n), kDim);
-        const Eigen::Map<const Rows> q(segs, static_cast<Eigen::Index>(n_segs), kDim);
-        Eigen::Map<Rows> d(distances.data(), static_cast<Eigen::Index>(n_segs), static_cast<Eigen::Index>(n));
-        d.noalias() = q * k.transpose();
-#else
-        // blocked dot products with 8 float lanes
-        for (std::size_t j0 = 0; j0 < n; j0 += 64) {
-            const std::size_t j1 = std::min(n, j0 + 64);
-            for (std::size_t i = 0; i < n_segs; ++i) {
-                const float* a = segs + i * kDim;
-                for (std::size_t j = j0; j < j1; ++j) {
-                    const float* b = values.data() + j * kDim;
-                    float lane[8] = {};
-                    for (std::size_t c = 0; c < kDim; c += 8)
-                        for (std::size_t l = 0; l < 8 && c + l < kDim; ++l) lane[l] += a[c + l] * b[c + l];
-                    distances[i * n + j] = ((lane[0] + lane[1]) + (lane[2] + lane[3])) + ((lane[4] + lane[5]) + (lane[6] + lane[7]));
-                }
-            }
-        }
-#endif
-        for (std::size_t i = 0; i < n_segs; ++i) {
-            const float* s = segs + i * kDim;
-            const float qn = squared_norm(s);
-            std::optional<std::size_t> best;
-            double best_d2 = 0;
-            const float* row = distances.data() + i * n;
-            for (std::size_t j = 0; j < n; ++j) {
-                const double d2 = static_cast<double>(qn + norms[j] - 2 * row[j]);
-                if (!best || d2 < best_d2) {
-                    best = j;
-                    best_d2 = d2;
-                }
-            }
-            for (std::size_t j = n; j < count.size(); ++j) {
-                const double d2 = kb::squared_distance(s, values.data() + j * kDim, kDim);
-                if (!best || d2 < best_d2) {
-                    best = j;
-                    best_d2 = d2;
-                }
-            }
-            credit_or_insert(s, reward, best, best_d2);
-        }
-    }
-
-    // one segment at a time, every full distance
-    void observe_loop(const float* segs, std::size_t n_segs, double reward) {
-        for (std::size_t i = 0; i < n_segs; ++i) {
-            const float* s = segs + i * kDim;
-            std::optional<std::size_t> best;
-            double best_d2 = 0;
-            for (std::size_t j = 0; j < count.size(); ++j) {
-                const double d2 = kb::squared_distance(s, values.data() + j * kDim, kDim);
-                if (!best || d2 < best_d2) {
-                    best = j;
-                    best_d2 = d2;
-                }
-            }
-            credit_or_insert(s, reward, best, best_d2);
-        }
-    }
-};
-
 // a KB grown from earlier synthetic generations, cut to `size` segments
 kb::KnowledgeBase realistic_kb(std::size_t size, std::uint64_t seed) {
     kb::KnowledgeBase kb(paper_params());
@@ -344,41 +223,32 @@ std::size_t observe_with_index(kb::KnowledgeBase& kb, const Generation& g, std::
 }
 
 struct Sizes {
-    std::size_t kb_size, generation, batched_slice, loop_queries, uniform_kb, uniform_policies, load;
+    std::size_t kb_size, generation, batched_slice, uniform_kb, uniform_policies, load;
 };
 
 Sizes sizes_of(Size size) {
-    if (size == Size::full) return {kPaperKbSize, kPaperPopulation, 4, 100, kPaperKbSize, 2, 1000000};
-    return {4000, 20, 2, 50, 4000, 1, 50000};
+    if (size == Size::full) return {kPaperKbSize, kPaperPopulation, 4, kPaperKbSize, 2, 1000000};
+    return {4000, 20, 2, 4000, 1, 50000};
 }
 
 struct KbState {
     kb::KnowledgeBase kb;
     Generation generation;
-    BruteKb brute;
+    reference::BruteKb brute;
     std::size_t policies;
 };
 
-Workload make_observe_workload(Size size, bool loop) {
+Workload make_observe_workload(Size size) {
     const Sizes s = sizes_of(size);
-    auto state = std::make_shared<KbState>(
-        KbState{realistic_kb(s.kb_size, 1000), realistic_generation(s.generation, 77), BruteKb(kb::KnowledgeBase(paper_params())), s.generation});
-    state->brute = BruteKb(state->kb);
-    Work baseline;
-    if (loop) {
-        baseline = [state, n = s.loop_queries] {
-            state->brute.reset();
-            state->brute.observe_loop(state->generation.policy(0), n, state->generation.rewards[0]);
-            return static_cast<std::uint64_t>(n);
-        };
-    } else {
-        baseline = [state, slice = s.batched_slice] {
-            state->brute.reset();
-            for (std::size_t p = 0; p < slice; ++p)
-                state->brute.observe_batched(state->generation.policy(p), kSegmentsPerPolicy, state->generation.rewards[p]);
-            return static_cast<std::uint64_t>(slice * kSegmentsPerPolicy);
-        };
-    }
+    auto state = std::make_shared<KbState>(KbState{realistic_kb(s.kb_size, 1000), realistic_generation(s.generation, 77),
+                                                   reference::BruteKb(kb::KnowledgeBase(paper_params())), s.generation});
+    state->brute = reference::BruteKb(state->kb);
+    Work baseline = [state, slice = s.batched_slice] {
+        state->brute.reset();
+        for (std::size_t p = 0; p < slice; ++p)
+            state->brute.observe_batched(state->generation.policy(p), kSegmentsPerPolicy, state->generation.rewards[p]);
+        return static_cast<std::uint64_t>(slice * kSegmentsPerPolicy);
+    };
     Work candidate = [state] {
         kb::KnowledgeBase kb = state->kb;
         observe_with_index(kb, state->generation, state->policies);
@@ -389,9 +259,9 @@ Workload make_observe_workload(Size size, bool loop) {
 
 Workload make_uniform_workload(Size size) {
     const Sizes s = sizes_of(size);
-    auto state = std::make_shared<KbState>(
-        KbState{uniform_kb(s.uniform_kb, 5), uniform_generation(s.uniform_policies, 6), BruteKb(kb::KnowledgeBase(paper_params())), s.uniform_policies});
-    state->brute = BruteKb(state->kb);
+    auto state = std::make_shared<KbState>(KbState{uniform_kb(s.uniform_kb, 5), uniform_generation(s.uniform_policies, 6),
+                                                   reference::BruteKb(kb::KnowledgeBase(paper_params())), s.uniform_policies});
+    state->brute = reference::BruteKb(state->kb);
     Work baseline = [state] {
         state->brute.reset();
         for (std::size_t p = 0; p < state->policies; ++p)
@@ -441,9 +311,7 @@ void add_kb_cases(Registry& registry) {
     registry.add(Case{"kb", "segments",
                       "one generation's observe step (200 x 200 segments of 300 values, KB of 32,580, with inserts): "
                       "exact index vs batched brute force",
-                      50.0, [](Size size) { return make_observe_workload(size, false); }});
-    registry.add(Case{"kb-loop", "segments", "the same observe step: exact index vs a plain loop of full distances",
-                      500.0, [](Size size) { return make_observe_workload(size, true); }});
+                      50.0, make_observe_workload});
     registry.add(Case{"kb-uniform", "segments",
                       "observe on uniform random segments (nothing prunes): index with its brute-force fallback vs "
                       "batched brute force",
@@ -478,14 +346,10 @@ KbMeasurements measure_kb(Size size) {
         m.candidates_per_query =
             static_cast<double>(kb.index().stats().candidates) / static_cast<double>(kb.index().stats().queries);
 
-        BruteKb brute(base);
-        auto t = Clock::now();
+        reference::BruteKb brute(base);
+        const auto t = Clock::now();
         for (std::size_t p = 0; p < s.batched_slice; ++p) brute.observe_batched(g.policy(p), kSegmentsPerPolicy, g.rewards[p]);
         m.batched_queries_per_s = static_cast<double>(s.batched_slice * kSegmentsPerPolicy) / seconds_since(t);
-        brute.reset();
-        t = Clock::now();
-        brute.observe_loop(g.policy(0), s.loop_queries, g.rewards[0]);
-        m.loop_queries_per_s = static_cast<double>(s.loop_queries) / seconds_since(t);
     }
 
     // uniform data
@@ -496,7 +360,7 @@ KbMeasurements measure_kb(Size size) {
         auto t = Clock::now();
         observe_with_index(kb, g, g.policies);
         m.uniform_index_queries_per_s = static_cast<double>(g.queries()) / seconds_since(t);
-        BruteKb brute(base);
+        reference::BruteKb brute(base);
         t = Clock::now();
         for (std::size_t p = 0; p < g.policies; ++p) brute.observe_batched(g.policy(p), kSegmentsPerPolicy, g.rewards[p]);
         m.uniform_batched_queries_per_s = static_cast<double>(g.queries()) / seconds_since(t);

@@ -30,7 +30,8 @@ void add_mpi_cases(Registry& registry);
 /// `render`: a trajectory figure with KB lookups vs replaying the policy.
 void add_render_cases(Registry& registry);
 
-/// `serve`, `serve-2`, `serve-8`: lookups over loopback HTTP vs in process.
+/// `serve`: lookups over loopback HTTP vs in process, one row a client count
+/// (serve/1, serve/2, serve/8).
 void add_serve_cases(Registry& registry);
 
 }  // namespace stepstone::bench

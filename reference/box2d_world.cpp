@@ -1,4 +1,4 @@
-#include "sim/world.hpp"
+#include "reference/box2d_world.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -9,7 +9,9 @@
 
 #include "sim/units.hpp"
 
-namespace stepstone::sim {
+namespace stepstone::reference {
+
+using namespace stepstone::sim;
 
 namespace {
 
@@ -212,4 +214,4 @@ Contact ReferenceWorld::contact(const Pose& pose, bool door_open) const {
     return result;
 }
 
-}  // namespace stepstone::sim
+}  // namespace stepstone::reference

@@ -11,7 +11,7 @@
 #include <list>
 #include <vector>
 
-namespace stepstone::bench {
+namespace stepstone::reference {
 
 /// A network as an edge list. Neurons are numbered inputs first, then
 /// outputs, then hidden neurons (nn2's order).
@@ -80,4 +80,4 @@ private:
     std::vector<Neuron*> outputs_;
 };
 
-}  // namespace stepstone::bench
+}  // namespace stepstone::reference

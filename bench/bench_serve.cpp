@@ -1,6 +1,7 @@
-// `serve`, `serve-2`, `serve-8`: KB lookups over loopback HTTP (stepstone
-// serve's server, in process, on a free port) by 1, 2 and 8 concurrent
-// clients, against the same lookups made in process on one thread.
+// `serve`: KB lookups over loopback HTTP (stepstone serve's server, in
+// process, on a free port) by N concurrent clients, against the same lookups
+// made in process on one thread; one row a client count, serve/1, serve/2 and
+// serve/8.
 
 #include <httplib.h>
 #include <unistd.h>
@@ -118,7 +119,7 @@ Workload serve_workload(Size size, int clients) {
 
 void add_serve_cases(Registry& registry) {
     for (const int clients : {1, 2, 8}) {
-        registry.add(Case{clients == 1 ? "serve" : "serve-" + std::to_string(clients), "lookups",
+        registry.add(Case{"serve/" + std::to_string(clients), "lookups",
                           "KB lookups of one policy's 200 segments (a KB of ~30,000) over loopback HTTP by " +
                               std::to_string(clients) + (clients == 1 ? " client" : " concurrent clients") +
                               " vs in process on one thread",

@@ -9,7 +9,7 @@
 #include <span>
 #include <vector>
 
-namespace stepstone::bench {
+namespace stepstone::reference {
 
 /// A trajectory sample: a 50 x 50 grid cell.
 struct GridCell {
@@ -32,4 +32,4 @@ std::vector<double> diversity_baseline(const std::vector<std::vector<GridCell>>&
 /// or moves to a neighbouring cell. Deterministic in `seed`.
 std::vector<std::vector<GridCell>> random_trajectories(int count, int length, std::uint64_t seed);
 
-}  // namespace stepstone::bench
+}  // namespace stepstone::reference

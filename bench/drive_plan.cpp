@@ -3,10 +3,12 @@
 #include <algorithm>
 #include <numbers>
 
-#include "bench/fastsim_baseline.hpp"
+#include "reference/fastsim_baseline.hpp"
 #include "core/rng.hpp"
 
 namespace stepstone::bench {
+
+using namespace stepstone::reference;  // the baselines
 
 namespace {
 

@@ -5,8 +5,8 @@
 #include <vector>
 
 #include "bench/cases.hpp"
-#include "bench/fastsim_baseline.hpp"
-#include "bench/pointer_network.hpp"
+#include "reference/fastsim_baseline.hpp"
+#include "reference/pointer_network.hpp"
 #include "bench/spec_genome.hpp"
 #include "core/error.hpp"
 #include "exp/evaluation.hpp"
@@ -15,6 +15,8 @@
 #include "sim/task.hpp"
 
 namespace stepstone::bench {
+
+using namespace stepstone::reference;  // the baselines
 
 namespace {
 

@@ -14,7 +14,7 @@
 #include <span>
 #include <vector>
 
-namespace stepstone::bench {
+namespace stepstone::reference {
 
 /// Side of the square bitmap, in pixels (docs/original.md: arena).
 inline constexpr int kMapPixels = 296;
@@ -267,4 +267,4 @@ BitmapEpisodeResult run_bitmap_episode(BitmapCollectBall& episode, Controller& c
     return episode.finish(step, recording);
 }
 
-}  // namespace stepstone::bench
+}  // namespace stepstone::reference
