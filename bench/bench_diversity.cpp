@@ -8,9 +8,9 @@
 #include <vector>
 
 #include "bench/cases.hpp"
-#include "reference/edit_distance_baseline.hpp"
 #include "core/error.hpp"
 #include "evo/diversity_matrix.hpp"
+#include "reference/edit_distance_baseline.hpp"
 
 namespace stepstone::bench {
 
@@ -26,11 +26,13 @@ constexpr int kCells = 80;
 Workload make_diversity_workload(Size size) {
     const int n = size == Size::full ? kFullTrajectories : kQuickTrajectories;
     const auto pairs = static_cast<std::uint64_t>(n) * static_cast<std::uint64_t>(n - 1) / 2;
-    auto baseline_data = std::make_shared<const std::vector<std::vector<GridCell>>>(random_trajectories(n, kCells, 5));
+    auto baseline_data =
+        std::make_shared<const std::vector<std::vector<GridCell>>>(random_trajectories(n, kCells, 5));
     auto candidate_data = std::make_shared<std::vector<evo::Trajectory>>();
     for (const auto& t : *baseline_data) {
         evo::Trajectory converted;
-        for (const auto& c : t) converted.push_back({static_cast<std::int16_t>(c.x), static_cast<std::int16_t>(c.y)});
+        for (const auto& c : t)
+            converted.push_back({static_cast<std::int16_t>(c.x), static_cast<std::int16_t>(c.y)});
         candidate_data->push_back(std::move(converted));
     }
 
@@ -64,10 +66,11 @@ Workload make_diversity_workload(Size size) {
 }  // namespace
 
 void add_diversity_cases(Registry& registry) {
-    registry.add(Case{"diversity", "pairs",
-                      "one generation's edit distances (400 x 80 cells, 79,800 pairs), one core: lib/evo vs a table "
-                      "allocated per pair",
-                      10.0, make_diversity_workload});
+    registry.add(
+        Case{"diversity", "pairs",
+             "one generation's edit distances (400 x 80 cells, 79,800 pairs), one core: lib/evo vs a table "
+             "allocated per pair",
+             10.0, make_diversity_workload});
 }
 
 }  // namespace stepstone::bench

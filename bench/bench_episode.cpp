@@ -5,12 +5,12 @@
 #include <vector>
 
 #include "bench/cases.hpp"
-#include "reference/fastsim_baseline.hpp"
-#include "reference/pointer_network.hpp"
 #include "bench/spec_genome.hpp"
 #include "core/error.hpp"
 #include "exp/evaluation.hpp"
 #include "nn/network.hpp"
+#include "reference/fastsim_baseline.hpp"
+#include "reference/pointer_network.hpp"
 #include "sim/episode.hpp"
 #include "sim/task.hpp"
 
@@ -46,7 +46,9 @@ struct BaselineEpisode {
     long steps = 0;
 
     BaselineEpisode(std::shared_ptr<const BitmapArena> a, const NetworkSpec& spec)
-        : arena(std::move(a)), episode(*arena, BitmapTask::source), network(spec),
+        : arena(std::move(a)),
+          episode(*arena, BitmapTask::source),
+          network(spec),
           behaviour(BitmapCollectBall::kStepsPerStart * BitmapCollectBall::kChannels),
           cells(BitmapCollectBall::kCells * 2) {}
 

@@ -39,10 +39,13 @@ Work side(Size size, unsigned threads) {
 }  // namespace
 
 void add_evolve_cases(Registry& registry) {
-    registry.add(Case{"evolve", "evaluations",
-                      "one source-task generation (population 200, 12,000 steps an evaluation, diversity, selection): "
-                      "2 threads vs 1",
-                      1.8, [](Size size) { return Workload{side(size, 1), side(size, 2)}; }});
+    registry.add(
+        Case{"evolve", "evaluations",
+             "one source-task generation (population 200, 12,000 steps an evaluation, diversity, selection): "
+             "2 threads vs 1",
+             1.8, [](Size size) {
+                 return Workload{side(size, 1), side(size, 2)};
+             }});
 }
 
 }  // namespace stepstone::bench

@@ -78,7 +78,9 @@ void drive(const Style& style, Rng& noise, std::size_t steps, float* out) {
         // smooth wheel commands: style + slow oscillation + correlated noise
         noise_l = 0.95 * noise_l + noise.uniform(-0.02, 0.02);
         noise_r = 0.95 * noise_r + noise.uniform(-0.02, 0.02);
-        const double wave = style.wobble * std::sin(2 * std::numbers::pi * static_cast<double>(t) / style.period + style.phase);
+        const double wave =
+            style.wobble *
+            std::sin(2 * std::numbers::pi * static_cast<double>(t) / style.period + style.phase);
         const double left = clamp01(style.left + wave + noise_l);
         const double right = clamp01(style.right - wave + noise_r);
         if (noise.bernoulli(0.002)) action = 1 - action;
@@ -100,7 +102,8 @@ void drive(const Style& style, Rng& noise, std::size_t steps, float* out) {
         for (int k = 0; k < 6; ++k) {
             const double* o = kObjects[k / 2];
             const double side = k % 2 == 0 ? std::numbers::pi / 4 : -std::numbers::pi / 4;
-            const double off = std::remainder(std::atan2(o[1] - y, o[0] - x) - (heading + side), 2 * std::numbers::pi);
+            const double off =
+                std::remainder(std::atan2(o[1] - y, o[0] - x) - (heading + side), 2 * std::numbers::pi);
             lights[k] = std::fabs(off) < std::numbers::pi / 8 && std::hypot(o[0] - x, o[1] - y) < 400;
         }
 
@@ -164,7 +167,8 @@ kb::KnowledgeBase realistic_kb(std::size_t size, std::uint64_t seed) {
         const std::vector<float> behaviours = synthetic_behaviours(seed + g, kPaperPopulation, kSteps);
         for (std::size_t p = 0; p < kPaperPopulation && kb.size() < size; ++p) {
             const std::span<const float> b(behaviours.data() + p * kSteps * kChannels, kSteps * kChannels);
-            kb.observe(kb::segment_behaviour(b, kChannels, kWidth), static_cast<double>(rewards.below(9)) / 24.0,
+            kb.observe(kb::segment_behaviour(b, kChannels, kWidth),
+                       static_cast<double>(rewards.below(9)) / 24.0,
                        kb::Origin{src, static_cast<std::int64_t>(g)});
         }
     }
@@ -178,7 +182,8 @@ kb::KnowledgeBase uniform_kb(std::size_t size, std::uint64_t seed) {
     std::vector<float> values(size * kDim);
     for (float& v : values) v = static_cast<float>(rng.uniform());
     std::vector<kb::SegmentRecord> records(size, kb::SegmentRecord{0.5, 1, {0, 0}, {0, 0}});
-    return kb::KnowledgeBase::from_segments(paper_params(), {kb::Source{"uniform", 0, 0, 1}}, values, records);
+    return kb::KnowledgeBase::from_segments(paper_params(), {kb::Source{"uniform", 0, 0, 1}}, values,
+                                            records);
 }
 
 // one generation to observe: policies x 200 segments and their rewards
@@ -215,9 +220,10 @@ std::size_t observe_with_index(kb::KnowledgeBase& kb, const Generation& g, std::
     const std::uint32_t src = kb.add_source("generation");
     std::size_t inserted = 0;
     for (std::size_t p = 0; p < policies; ++p) {
-        inserted += kb.observe(kb::Segments{std::span<const float>(g.policy(p), kSegmentsPerPolicy * kDim), kDim},
-                               g.rewards[p], kb::Origin{src, 0})
-                        .inserted;
+        inserted +=
+            kb.observe(kb::Segments{std::span<const float>(g.policy(p), kSegmentsPerPolicy * kDim), kDim},
+                       g.rewards[p], kb::Origin{src, 0})
+                .inserted;
     }
     return inserted;
 }
@@ -240,13 +246,15 @@ struct KbState {
 
 Workload make_observe_workload(Size size) {
     const Sizes s = sizes_of(size);
-    auto state = std::make_shared<KbState>(KbState{realistic_kb(s.kb_size, 1000), realistic_generation(s.generation, 77),
-                                                   reference::BruteKb(kb::KnowledgeBase(paper_params())), s.generation});
+    auto state = std::make_shared<KbState>(
+        KbState{realistic_kb(s.kb_size, 1000), realistic_generation(s.generation, 77),
+                reference::BruteKb(kb::KnowledgeBase(paper_params())), s.generation});
     state->brute = reference::BruteKb(state->kb);
     Work baseline = [state, slice = s.batched_slice] {
         state->brute.reset();
         for (std::size_t p = 0; p < slice; ++p)
-            state->brute.observe_batched(state->generation.policy(p), kSegmentsPerPolicy, state->generation.rewards[p]);
+            state->brute.observe_batched(state->generation.policy(p), kSegmentsPerPolicy,
+                                         state->generation.rewards[p]);
         return static_cast<std::uint64_t>(slice * kSegmentsPerPolicy);
     };
     Work candidate = [state] {
@@ -259,13 +267,15 @@ Workload make_observe_workload(Size size) {
 
 Workload make_uniform_workload(Size size) {
     const Sizes s = sizes_of(size);
-    auto state = std::make_shared<KbState>(KbState{uniform_kb(s.uniform_kb, 5), uniform_generation(s.uniform_policies, 6),
-                                                   reference::BruteKb(kb::KnowledgeBase(paper_params())), s.uniform_policies});
+    auto state = std::make_shared<KbState>(
+        KbState{uniform_kb(s.uniform_kb, 5), uniform_generation(s.uniform_policies, 6),
+                reference::BruteKb(kb::KnowledgeBase(paper_params())), s.uniform_policies});
     state->brute = reference::BruteKb(state->kb);
     Work baseline = [state] {
         state->brute.reset();
         for (std::size_t p = 0; p < state->policies; ++p)
-            state->brute.observe_batched(state->generation.policy(p), kSegmentsPerPolicy, state->generation.rewards[p]);
+            state->brute.observe_batched(state->generation.policy(p), kSegmentsPerPolicy,
+                                         state->generation.rewards[p]);
         return static_cast<std::uint64_t>(state->generation.queries());
     };
     Work candidate = [state] {
@@ -308,17 +318,19 @@ Workload make_load_workload(Size size) {
 }  // namespace
 
 void add_kb_cases(Registry& registry) {
-    registry.add(Case{"kb", "segments",
-                      "one generation's observe step (200 x 200 segments of 300 values, KB of 32,580, with inserts): "
-                      "exact index vs batched brute force",
-                      50.0, make_observe_workload});
-    registry.add(Case{"kb-uniform", "segments",
-                      "observe on uniform random segments (nothing prunes): index with its brute-force fallback vs "
-                      "batched brute force",
-                      1.0, make_uniform_workload});
+    registry.add(
+        Case{"kb", "segments",
+             "one generation's observe step (200 x 200 segments of 300 values, KB of 32,580, with inserts): "
+             "exact index vs batched brute force",
+             50.0, make_observe_workload});
+    registry.add(
+        Case{"kb-uniform", "segments",
+             "observe on uniform random segments (nothing prunes): index with its brute-force fallback vs "
+             "batched brute force",
+             1.0, make_uniform_workload});
     registry.add(Case{"kb-load", "segments",
-                      "a KB of 10^6 segments from arrays (checks, copy, index build) vs copying the arrays", 0.1,
-                      make_load_workload});
+                      "a KB of 10^6 segments from arrays (checks, copy, index build) vs copying the arrays",
+                      0.1, make_load_workload});
     add_kb_flann_case(registry);
 }
 
@@ -343,13 +355,15 @@ KbMeasurements measure_kb(Size size) {
         m.inserted = observe_with_index(kb, g, g.policies);
         m.observe_seconds = seconds_since(start);
         m.index_queries_per_s = static_cast<double>(m.queries) / m.observe_seconds;
-        m.candidates_per_query =
-            static_cast<double>(kb.index().stats().candidates) / static_cast<double>(kb.index().stats().queries);
+        m.candidates_per_query = static_cast<double>(kb.index().stats().candidates) /
+                                 static_cast<double>(kb.index().stats().queries);
 
         reference::BruteKb brute(base);
         const auto t = Clock::now();
-        for (std::size_t p = 0; p < s.batched_slice; ++p) brute.observe_batched(g.policy(p), kSegmentsPerPolicy, g.rewards[p]);
-        m.batched_queries_per_s = static_cast<double>(s.batched_slice * kSegmentsPerPolicy) / seconds_since(t);
+        for (std::size_t p = 0; p < s.batched_slice; ++p)
+            brute.observe_batched(g.policy(p), kSegmentsPerPolicy, g.rewards[p]);
+        m.batched_queries_per_s =
+            static_cast<double>(s.batched_slice * kSegmentsPerPolicy) / seconds_since(t);
     }
 
     // uniform data
@@ -362,7 +376,8 @@ KbMeasurements measure_kb(Size size) {
         m.uniform_index_queries_per_s = static_cast<double>(g.queries()) / seconds_since(t);
         reference::BruteKb brute(base);
         t = Clock::now();
-        for (std::size_t p = 0; p < g.policies; ++p) brute.observe_batched(g.policy(p), kSegmentsPerPolicy, g.rewards[p]);
+        for (std::size_t p = 0; p < g.policies; ++p)
+            brute.observe_batched(g.policy(p), kSegmentsPerPolicy, g.rewards[p]);
         m.uniform_batched_queries_per_s = static_cast<double>(g.queries()) / seconds_since(t);
     }
 
@@ -377,8 +392,8 @@ KbMeasurements measure_kb(Size size) {
             m.copy_seconds = seconds_since(t);
         }
         t = Clock::now();
-        const kb::KnowledgeBase kb = kb::KnowledgeBase::from_segments(paper_params(), {kb::Source{"load", 0, 3, 1}},
-                                                                      state->values, state->records);
+        const kb::KnowledgeBase kb = kb::KnowledgeBase::from_segments(
+            paper_params(), {kb::Source{"load", 0, 3, 1}}, state->values, state->records);
         m.load_seconds = seconds_since(t);
     }
     return m;

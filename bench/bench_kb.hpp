@@ -28,28 +28,27 @@ void add_kb_cases(Registry& registry);
 
 /// `policies` synthetic behaviours of `steps` x 15 channels (row-major, values
 /// in [0, 1]): 3 lasers from a robot driving in a 600 x 400 box (smooth), 6
-/// light sensors (on while an object lies in their cone, so they switch rarely), 2 bumpers (on while pushing a wall), a
-/// carrying flag switching rarely, and 3 smooth effectors (wheels, action).
-/// Every policy starts from the same pose and descends from one of 40 fixed
-/// lineages (a driving style and a controller reaction shared by every seed),
-/// slightly mutated, as the policies of one run are. Deterministic in `seed`.
+/// light sensors (on while an object lies in their cone, so they switch rarely), 2 bumpers (on while pushing
+/// a wall), a carrying flag switching rarely, and 3 smooth effectors (wheels, action). Every policy starts
+/// from the same pose and descends from one of 40 fixed lineages (a driving style and a controller reaction
+/// shared by every seed), slightly mutated, as the policies of one run are. Deterministic in `seed`.
 std::vector<float> synthetic_behaviours(std::uint64_t seed, std::size_t policies, std::size_t steps);
 
 /// Numbers reported in docs/knowledge_base.md, measured once each.
 struct KbMeasurements {
-    std::size_t kb_size = 0;              ///< segments in the KB before the generation
-    std::size_t queries = 0;              ///< segments observed (one generation)
-    std::size_t inserted = 0;             ///< of which inserted
-    double observe_seconds = 0;           ///< the generation's observe step with the index
-    double index_queries_per_s = 0;       ///< queries / observe_seconds
-    double batched_queries_per_s = 0;     ///< batched brute force on the same workload (a slice)
-    double candidates_per_query = 0;      ///< segments passing the lower bound per query
+    std::size_t kb_size = 0;                   ///< segments in the KB before the generation
+    std::size_t queries = 0;                   ///< segments observed (one generation)
+    std::size_t inserted = 0;                  ///< of which inserted
+    double observe_seconds = 0;                ///< the generation's observe step with the index
+    double index_queries_per_s = 0;            ///< queries / observe_seconds
+    double batched_queries_per_s = 0;          ///< batched brute force on the same workload (a slice)
+    double candidates_per_query = 0;           ///< segments passing the lower bound per query
     double uniform_index_queries_per_s = 0;    ///< uniform data, index (brute-force fallback)
     double uniform_batched_queries_per_s = 0;  ///< uniform data, batched brute force
-    std::size_t load_segments = 0;        ///< segments of the load test
-    double load_seconds = 0;              ///< from_segments: validate, copy, build the index
-    double copy_seconds = 0;              ///< copying the same arrays
-    double bytes_per_segment = 0;         ///< KnowledgeBase::bytes_per_segment() at paper size
+    std::size_t load_segments = 0;             ///< segments of the load test
+    double load_seconds = 0;                   ///< from_segments: validate, copy, build the index
+    double copy_seconds = 0;                   ///< copying the same arrays
+    double bytes_per_segment = 0;              ///< KnowledgeBase::bytes_per_segment() at paper size
 };
 
 /// Measures every number of KbMeasurements (Size::quick: smaller KBs).
@@ -73,16 +72,16 @@ void add_kb_flann_case(Registry& registry);
 
 /// Numbers of the `kb-flann` case reported in docs/knowledge_base.md.
 struct KbFlannMeasurements {
-    std::size_t kb_size = 0;            ///< segments in the KB
-    std::size_t queries = 0;            ///< query segments (one generation)
-    double kb_build_seconds = 0;        ///< KnowledgeBase::from_segments (validation, copy, exact index)
-    double flann_build_seconds = 0;     ///< flann::Index::buildIndex, 4 randomized trees
-    double lookup_queries_per_s = 0;    ///< KnowledgeBase::lookup, within delta
-    double nearest_queries_per_s = 0;   ///< KnowledgeBase::nearest, whatever the distance
-    double flann_queries_per_s = 0;     ///< FLANN knnSearch, 1 neighbour, 128 checks
-    double recall = 0;                  ///< fraction of queries whose FLANN neighbour is the exact nearest
-    double match_agreement = 0;         ///< fraction whose within-delta match (segment or none) FLANN gets right
-    double within_delta = 0;            ///< fraction of queries with a KB segment within delta
+    std::size_t kb_size = 0;           ///< segments in the KB
+    std::size_t queries = 0;           ///< query segments (one generation)
+    double kb_build_seconds = 0;       ///< KnowledgeBase::from_segments (validation, copy, exact index)
+    double flann_build_seconds = 0;    ///< flann::Index::buildIndex, 4 randomized trees
+    double lookup_queries_per_s = 0;   ///< KnowledgeBase::lookup, within delta
+    double nearest_queries_per_s = 0;  ///< KnowledgeBase::nearest, whatever the distance
+    double flann_queries_per_s = 0;    ///< FLANN knnSearch, 1 neighbour, 128 checks
+    double recall = 0;                 ///< fraction of queries whose FLANN neighbour is the exact nearest
+    double match_agreement = 0;  ///< fraction whose within-delta match (segment or none) FLANN gets right
+    double within_delta = 0;     ///< fraction of queries with a KB segment within delta
 };
 
 /// Measures every number of KbFlannMeasurements once (Size::quick: smaller KB).

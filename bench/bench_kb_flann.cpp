@@ -104,10 +104,11 @@ Workload make_flann_workload(Size size) {
 }  // namespace
 
 void add_kb_flann_case(Registry& registry) {
-    registry.add(Case{"kb-flann", "segments",
-                      "lookups of one generation's segments (40,000 against a KB of 32,580): exact index vs FLANN "
-                      "kd-forest (4 trees, 128 checks, approximate)",
-                      10.0, make_flann_workload});
+    registry.add(
+        Case{"kb-flann", "segments",
+             "lookups of one generation's segments (40,000 against a KB of 32,580): exact index vs FLANN "
+             "kd-forest (4 trees, 128 checks, approximate)",
+             10.0, make_flann_workload});
 }
 
 KbFlannMeasurements measure_kb_flann(Size size) {
@@ -121,7 +122,8 @@ KbFlannMeasurements measure_kb_flann(Size size) {
     auto t = Clock::now();
     {
         const std::vector<kb::Source> sources(data.kb.sources().begin(), data.kb.sources().end());
-        data.kb = kb::KnowledgeBase::from_segments(data.kb.params(), sources, data.kb.values(), data.kb.records());
+        data.kb =
+            kb::KnowledgeBase::from_segments(data.kb.params(), sources, data.kb.values(), data.kb.records());
     }
     m.kb_build_seconds = seconds_since(t);
 

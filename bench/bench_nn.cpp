@@ -4,10 +4,10 @@
 #include <vector>
 
 #include "bench/cases.hpp"
-#include "reference/pointer_network.hpp"
 #include "bench/spec_genome.hpp"
 #include "core/rng.hpp"
 #include "nn/network.hpp"
+#include "reference/pointer_network.hpp"
 
 namespace stepstone::bench {
 
@@ -54,7 +54,8 @@ Workload make_nn_workload(Size size) {
     }
     const int steps = size == Size::full ? 100000 : 20000;
 
-    auto baseline = std::make_shared<Stepper<PointerNetwork>>(Stepper<PointerNetwork>{PointerNetwork(spec), inputs, steps});
+    auto baseline = std::make_shared<Stepper<PointerNetwork>>(
+        Stepper<PointerNetwork>{PointerNetwork(spec), inputs, steps});
     auto candidate = std::make_shared<Stepper<nn::Network>>(
         Stepper<nn::Network>{nn::Network(genome_from_spec(spec), nn::DnnConfig{}), inputs, steps});
     check_same_network(baseline->network, candidate->network, kInputs, kOutputs);
@@ -64,9 +65,10 @@ Workload make_nn_workload(Size size) {
 }  // namespace
 
 void add_nn_cases(Registry& registry) {
-    registry.add(Case{"nn", "steps",
-                      "a random 12-15-3 recurrent network of 120 connections: nn::Network vs nn2-style pointer graph",
-                      2.5, make_nn_workload});
+    registry.add(
+        Case{"nn", "steps",
+             "a random 12-15-3 recurrent network of 120 connections: nn::Network vs nn2-style pointer graph",
+             2.5, make_nn_workload});
 }
 
 }  // namespace stepstone::bench

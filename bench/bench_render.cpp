@@ -45,31 +45,32 @@ std::shared_ptr<RenderState> make_state(Size size) {
 }  // namespace
 
 void add_render_cases(Registry& registry) {
-    registry.add(Case{"render", "figures",
-                      "a trajectory figure of a 4,000-step scripted policy (replay, KB lookups of its 200 segments in "
-                      "a KB of ~30,000, drawing, PNG encoding) vs replaying it",
-                      0.03, [](Size size) {
-                          auto state = make_state(size);
-                          Work replay = [state] {
-                              sim::ScriptedController policy(sim::TaskKind::source);
-                              sim::run_episode(*state->task, policy, sim::Recording{state->behaviour, {}, nullptr});
-                              return std::uint64_t{1};
-                          };
-                          Work render = [state] {
-                              sim::ScriptedController policy(sim::TaskKind::source);
-                              const auto trace = report::trace_episode(
-                                  state->task,
-                                  [&](const auto& observer) {
-                                      return sim::run_episode(*state->task, policy, sim::Recording{}, observer);
-                                  },
-                                  0, &state->kb, "bench", "the scripted policy");
-                              report::ArenaLayout layout;
-                              report::Canvas canvas(layout.width, layout.height, report::Format::png);
-                              report::draw_trajectory(canvas, trace, {}, layout);
-                              return std::uint64_t{!canvas.finish().empty()};
-                          };
-                          return Workload{replay, render};
-                      }});
+    registry.add(
+        Case{"render", "figures",
+             "a trajectory figure of a 4,000-step scripted policy (replay, KB lookups of its 200 segments in "
+             "a KB of ~30,000, drawing, PNG encoding) vs replaying it",
+             0.03, [](Size size) {
+                 auto state = make_state(size);
+                 Work replay = [state] {
+                     sim::ScriptedController policy(sim::TaskKind::source);
+                     sim::run_episode(*state->task, policy, sim::Recording{state->behaviour, {}, nullptr});
+                     return std::uint64_t{1};
+                 };
+                 Work render = [state] {
+                     sim::ScriptedController policy(sim::TaskKind::source);
+                     const auto trace = report::trace_episode(
+                         state->task,
+                         [&](const auto& observer) {
+                             return sim::run_episode(*state->task, policy, sim::Recording{}, observer);
+                         },
+                         0, &state->kb, "bench", "the scripted policy");
+                     report::ArenaLayout layout;
+                     report::Canvas canvas(layout.width, layout.height, report::Format::png);
+                     report::draw_trajectory(canvas, trace, {}, layout);
+                     return std::uint64_t{!canvas.finish().empty()};
+                 };
+                 return Workload{replay, render};
+             }});
 }
 
 }  // namespace stepstone::bench

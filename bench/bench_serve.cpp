@@ -8,10 +8,9 @@
 
 #include <filesystem>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <thread>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "bench/cases.hpp"
 #include "core/error.hpp"
@@ -49,8 +48,8 @@ struct ServeState {
 
 std::shared_ptr<ServeState> make_state(Size size, int clients) {
     auto state = std::make_shared<ServeState>();
-    state->dir = fs::temp_directory_path() / ("stepstone-bench-serve-" + std::to_string(::getpid()) + "-" +
-                                              std::to_string(clients));
+    state->dir = fs::temp_directory_path() /
+                 ("stepstone-bench-serve-" + std::to_string(::getpid()) + "-" + std::to_string(clients));
     fs::remove_all(state->dir);
     fs::create_directories(state->dir);
     sim::TaskConfig config;
@@ -64,13 +63,15 @@ std::shared_ptr<ServeState> make_state(Size size, int clients) {
         sim::run_episode(*task, random, sim::Recording{behaviour, {}, nullptr});
         // the last policy is not observed: it is the one looked up
         if (p < policies) {
-            state->kb.observe(kb::segment_behaviour(behaviour, sim::kChannels, 20), (p % 5) / 24.0, {source, p});
+            state->kb.observe(kb::segment_behaviour(behaviour, sim::kChannels, 20), (p % 5) / 24.0,
+                              {source, p});
         }
     }
     state->batch = behaviour;
     nlohmann::json segments = nlohmann::json::array();
     const auto cut = kb::segment_behaviour(behaviour, sim::kChannels, 20);
-    for (std::size_t i = 0; i < cut.size(); ++i) segments.push_back(std::vector<float>(cut[i].begin(), cut[i].end()));
+    for (std::size_t i = 0; i < cut.size(); ++i)
+        segments.push_back(std::vector<float>(cut[i].begin(), cut[i].end()));
     state->body = nlohmann::json{{"segments", segments}}.dump();
     {
         auto connection = db::open_database(state->dir / "kb.db", db::OpenMode::create);
@@ -102,7 +103,8 @@ Workload serve_workload(Size size, int clients) {
         std::vector<int> ok(state->clients.size(), 0);
         for (std::size_t c = 0; c < state->clients.size(); ++c) {
             threads.emplace_back([&, c] {
-                const auto res = state->clients[c]->Post("/v1/kbs/bench/lookup", state->body, "application/json");
+                const auto res =
+                    state->clients[c]->Post("/v1/kbs/bench/lookup", state->body, "application/json");
                 ok[c] = res && res->status == 200;
             });
         }

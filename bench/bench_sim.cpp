@@ -3,8 +3,8 @@
 #include <memory>
 
 #include "bench/cases.hpp"
-#include "reference/fastsim_baseline.hpp"
 #include "bench/drive_plan.hpp"
+#include "reference/fastsim_baseline.hpp"
 #include "sim/arena.hpp"
 #include "sim/robot.hpp"
 #include "sim/sensors.hpp"
@@ -38,7 +38,8 @@ struct CandidateRobot {
                 pose = {start[0], start[1], start[2]};
             }
             const auto& command = plan.commands[k];
-            const sim::Pose next = sim::move_pose(pose, sim::wheel_step(command[0]), sim::wheel_step(command[1]));
+            const sim::Pose next =
+                sim::move_pose(pose, sim::wheel_step(command[0]), sim::wheel_step(command[1]));
             const sim::Contact contact = task->arena().contact(next, state.door_open);
             if (contact.hit) {
                 pose.heading = next.heading;

@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <numbers>
 
-#include "reference/fastsim_baseline.hpp"
 #include "core/rng.hpp"
+#include "reference/fastsim_baseline.hpp"
 
 namespace stepstone::bench {
 
@@ -37,7 +37,8 @@ DrivePlan drive_plan(int steps, std::uint64_t seed) {
     }
     while (static_cast<int>(plan.commands.size()) < steps) {
         std::array<float, 2> command{1.0f, 1.0f};
-        if (rng.below(5) >= 3) command = {static_cast<float>(rng.uniform()), static_cast<float>(rng.uniform())};
+        if (rng.below(5) >= 3)
+            command = {static_cast<float>(rng.uniform()), static_cast<float>(rng.uniform())};
         const auto length = 10 + rng.below(50);
         for (std::uint64_t k = 0; k < length && static_cast<int>(plan.commands.size()) < steps; ++k) {
             plan.commands.push_back(command);

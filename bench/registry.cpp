@@ -21,7 +21,8 @@ void Registry::add(Case c) {
     const bool row = c.name.find('/') != std::string::npos;
     for (const auto& other : cases_) {
         const bool other_row = other.name.find('/') != std::string::npos;
-        if ((row && !other_row && other.name == case_of(c.name)) || (!row && other_row && case_of(other.name) == c.name))
+        if ((row && !other_row && other.name == case_of(c.name)) ||
+            (!row && other_row && case_of(other.name) == c.name))
             throw std::invalid_argument("bench case " + c.name + " is ambiguous beside " + other.name);
     }
     cases_.push_back(std::move(c));

@@ -33,10 +33,12 @@ double measure(const Work& work, double min_seconds, const std::string& what) {
 
 PairedRatio paired_ratio(std::span<const double> baseline_rates, std::span<const double> candidate_rates) {
     if (baseline_rates.empty() || baseline_rates.size() != candidate_rates.size())
-        throw std::invalid_argument("paired_ratio: " + std::to_string(baseline_rates.size()) + " baseline and " +
-                                    std::to_string(candidate_rates.size()) + " candidate rates");
+        throw std::invalid_argument("paired_ratio: " + std::to_string(baseline_rates.size()) +
+                                    " baseline and " + std::to_string(candidate_rates.size()) +
+                                    " candidate rates");
     std::vector<double> ratios;
-    for (std::size_t i = 0; i < baseline_rates.size(); ++i) ratios.push_back(candidate_rates[i] / baseline_rates[i]);
+    for (std::size_t i = 0; i < baseline_rates.size(); ++i)
+        ratios.push_back(candidate_rates[i] / baseline_rates[i]);
     const auto [low, high] = std::minmax_element(ratios.begin(), ratios.end());
     return PairedRatio{stats::median(ratios), *low, *high};
 }
@@ -65,9 +67,11 @@ CaseResult run_case(const Case& c, const RunOptions& options, const RoundCallbac
     for (int round = 0; round < rounds; ++round) {
         if (round % 2 == 0) {
             baseline_rates.push_back(measure(workload.baseline, options.min_seconds, c.name + " (baseline)"));
-            candidate_rates.push_back(measure(workload.candidate, options.min_seconds, c.name + " (candidate)"));
+            candidate_rates.push_back(
+                measure(workload.candidate, options.min_seconds, c.name + " (candidate)"));
         } else {
-            candidate_rates.push_back(measure(workload.candidate, options.min_seconds, c.name + " (candidate)"));
+            candidate_rates.push_back(
+                measure(workload.candidate, options.min_seconds, c.name + " (candidate)"));
             baseline_rates.push_back(measure(workload.baseline, options.min_seconds, c.name + " (baseline)"));
         }
         if (on_round) on_round(round + 1, rounds);

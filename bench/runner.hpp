@@ -40,10 +40,10 @@ struct CaseResult {
     std::string unit;            ///< the case's unit of work
     double baseline_per_s = 0;   ///< median over rounds of baseline units per second
     double candidate_per_s = 0;  ///< median over rounds of candidate units per second
-    double ratio = 0;            ///< the paired ratio: median over rounds of each round's candidate / baseline
-    double ratio_min = 0;        ///< the lowest round's ratio
-    double ratio_max = 0;        ///< the highest round's ratio
-    double target_ratio = 0;     ///< the case's target
+    double ratio = 0;         ///< the paired ratio: median over rounds of each round's candidate / baseline
+    double ratio_min = 0;     ///< the lowest round's ratio
+    double ratio_max = 0;     ///< the highest round's ratio
+    double target_ratio = 0;  ///< the case's target
     std::vector<double> baseline_rates;   ///< each round's baseline units per second
     std::vector<double> candidate_rates;  ///< each round's candidate units per second
     /// Why the case could not run (no mpirun, a failed child, ...); empty when it ran.

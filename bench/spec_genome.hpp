@@ -3,10 +3,10 @@
 // Converts the bench's edge-list networks into lib/nn genomes, so the pointer
 // baseline and nn::Network run the very same network.
 
-#include "reference/pointer_network.hpp"
 #include "nn/dnn_config.hpp"
 #include "nn/genome.hpp"
 #include "nn/network.hpp"
+#include "reference/pointer_network.hpp"
 
 namespace stepstone::bench {
 

@@ -1,11 +1,11 @@
 #include "reference/box2d_world.hpp"
 
+#include <box2d/b2_distance.h>
+#include <box2d/box2d.h>
+
 #include <algorithm>
 #include <cmath>
 #include <vector>
-
-#include <box2d/b2_distance.h>
-#include <box2d/box2d.h>
 
 #include "sim/units.hpp"
 
@@ -123,7 +123,8 @@ struct ReferenceWorld::Impl {
     }
 };
 
-ReferenceWorld::ReferenceWorld(const Arena& arena, std::span<const Light> lights) : impl_(std::make_unique<Impl>()) {
+ReferenceWorld::ReferenceWorld(const Arena& arena, std::span<const Light> lights)
+    : impl_(std::make_unique<Impl>()) {
     impl_->door = arena.door_index();
     impl_->lights.assign(lights.begin(), lights.end());
     b2BodyDef body;
@@ -144,7 +145,8 @@ ReferenceWorld::ReferenceWorld(const Arena& arena, std::span<const Light> lights
 
 ReferenceWorld::~ReferenceWorld() = default;
 
-double ReferenceWorld::ray_distance(double x, double y, double dx, double dy, double range, bool door_open) const {
+double ReferenceWorld::ray_distance(double x, double y, double dx, double dy, double range,
+                                    bool door_open) const {
     return impl_->ray(x, y, dx, dy, range, door_open);
 }
 

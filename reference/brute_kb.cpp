@@ -38,7 +38,8 @@ void BruteKb::reset() {
     count_ = initial_count_;
 }
 
-void BruteKb::credit_or_insert(const float* s, double reward, std::optional<std::size_t> best, double best_d2) {
+void BruteKb::credit_or_insert(const float* s, double reward, std::optional<std::size_t> best,
+                               double best_d2) {
     if (best && best_d2 < delta_ * delta_) {
         cum_reward_[*best] += reward;
         count_[*best] += 1;
@@ -55,7 +56,8 @@ void BruteKb::observe_batched(const float* segs, std::size_t n_segs, double rewa
     distances_.resize(n_segs * n);
 #if STEPSTONE_BRUTE_KB_EIGEN
     using Rows = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-    const Eigen::Map<const Rows> k(values_.data(), static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(dim_));
+    const Eigen::Map<const Rows> k(values_.data(), static_cast<Eigen::Index>(n),
+                                   static_cast<Eigen::Index>(dim_));
     const Eigen::Map<const Rows> q(segs, static_cast<Eigen::Index>(n_segs), static_cast<Eigen::Index>(dim_));
     Eigen::Map<Rows> d(distances_.data(), static_cast<Eigen::Index>(n_segs), static_cast<Eigen::Index>(n));
     d.noalias() = q * k.transpose();

@@ -16,7 +16,9 @@ constexpr float kPi = std::numbers::pi_v<float>;
 template <bool XMajor>
 bool supercover_walk(const BitmapMap& map, int a, int b, int da, int db, int sa, int sb, int& hit_x,
                      int& hit_y) {
-    auto wall = [&map](int major, int minor) { return XMajor ? map.obstacle(major, minor) : map.obstacle(minor, major); };
+    auto wall = [&map](int major, int minor) {
+        return XMajor ? map.obstacle(major, minor) : map.obstacle(minor, major);
+    };
     const int two_da = 2 * da;
     const int two_db = 2 * db;
     int error = da;
@@ -94,20 +96,20 @@ float distance(float x0, float y0, float x1, float y1) {
 std::vector<WallRect> arena_walls(Door door) {
     // world edges (docs/original.md: arena); every edge lies between two pixel centres
     std::vector<WallRect> walls{
-        {0.0f, 0.0f, 9.1f, 600.0f},         // outer left
-        {588.9f, 0.0f, 600.0f, 600.0f},     // outer right
-        {0.0f, 0.0f, 600.0f, 9.1f},         // outer top
-        {0.0f, 394.3f, 600.0f, 400.3f},     // arena bottom
-        {0.0f, 588.9f, 600.0f, 600.0f},     // bottom of the unreachable lower box
-        {201.7f, 199.7f, 453.0f, 205.7f},   // horizontal wall, left part
-        {546.3f, 199.7f, 600.0f, 205.7f},   // horizontal wall, right part
-        {396.3f, 205.7f, 402.4f, 256.4f},   // upper stub
-        {396.3f, 351.7f, 402.4f, 394.3f},   // lower stub
+        {0.0f, 0.0f, 9.1f, 600.0f},        // outer left
+        {588.9f, 0.0f, 600.0f, 600.0f},    // outer right
+        {0.0f, 0.0f, 600.0f, 9.1f},        // outer top
+        {0.0f, 394.3f, 600.0f, 400.3f},    // arena bottom
+        {0.0f, 588.9f, 600.0f, 600.0f},    // bottom of the unreachable lower box
+        {201.7f, 199.7f, 453.0f, 205.7f},  // horizontal wall, left part
+        {546.3f, 199.7f, 600.0f, 205.7f},  // horizontal wall, right part
+        {396.3f, 205.7f, 402.4f, 256.4f},  // upper stub
+        {396.3f, 351.7f, 402.4f, 394.3f},  // lower stub
     };
     if (door == Door::closed) {
         walls.push_back({201.7f, 9.1f, 207.8f, 394.3f});  // divider
     } else {
-        walls.push_back({201.7f, 9.1f, 207.8f, 256.4f});   // divider above the door
+        walls.push_back({201.7f, 9.1f, 207.8f, 256.4f});    // divider above the door
         walls.push_back({201.7f, 351.7f, 207.8f, 394.3f});  // divider below the door
     }
     return walls;
@@ -272,10 +274,10 @@ BitmapCollectBall::BitmapCollectBall(const BitmapArena& arena, BitmapTask task)
     const float w = 405.0f;
     if (task_ == BitmapTask::source) {
         lights_ = {
-            {195 + w / 4, w / 8, LightColor::ball, true},     {195 + w / 4, 3 * w / 8, LightColor::ball, true},
-            {195 + w / 2, w / 8, LightColor::ball, true},     {195 + w / 2, 3 * w / 8, LightColor::ball, true},
-            {195.0f / 2, w / 8, LightColor::ball, true},      {195.0f / 2, 3 * w / 8, LightColor::ball, true},
-            {195.0f / 2, 5 * w / 8, LightColor::ball, true},  {195.0f / 2, 7 * w / 8, LightColor::ball, true},
+            {195 + w / 4, w / 8, LightColor::ball, true},    {195 + w / 4, 3 * w / 8, LightColor::ball, true},
+            {195 + w / 2, w / 8, LightColor::ball, true},    {195 + w / 2, 3 * w / 8, LightColor::ball, true},
+            {195.0f / 2, w / 8, LightColor::ball, true},     {195.0f / 2, 3 * w / 8, LightColor::ball, true},
+            {195.0f / 2, 5 * w / 8, LightColor::ball, true}, {195.0f / 2, 7 * w / 8, LightColor::ball, true},
         };
     } else {
         lights_ = {{195.0f / 2, w / 8, LightColor::ball, false}};
@@ -328,8 +330,8 @@ void check_recording(const BitmapRecording& recording) {
                                     std::to_string(recording.behaviour.size()) + " floats, expected 60000");
     }
     if (!recording.cells.empty() && recording.cells.size() != 2 * BitmapCollectBall::kCells) {
-        throw std::invalid_argument("bitmap episode: cell buffer holds " + std::to_string(recording.cells.size()) +
-                                    " integers, expected 160");
+        throw std::invalid_argument("bitmap episode: cell buffer holds " +
+                                    std::to_string(recording.cells.size()) + " integers, expected 160");
     }
 }
 
@@ -377,7 +379,8 @@ void BitmapCollectBall::act(float action) {
     }
 }
 
-bool BitmapCollectBall::apply(int step, const float* in12, const float* out3, const BitmapRecording& recording) {
+bool BitmapCollectBall::apply(int step, const float* in12, const float* out3,
+                              const BitmapRecording& recording) {
     // history of the first start: behaviour rows and one grid cell every 50 steps
     if (step < kStepsPerStart) {
         if (!recording.behaviour.empty()) {
@@ -398,7 +401,8 @@ bool BitmapCollectBall::apply(int step, const float* in12, const float* out3, co
     const BitmapPose before = robot_.pose();
     robot_.move(4 * (2 * out3[0] - 1), 4 * (2 * out3[1] - 1), *map_, lights_);
     const BitmapPose& after = robot_.pose();
-    if (distance(before.x, before.y, after.x, after.y) < 1e-4f && std::fabs(after.theta - before.theta) < 1e-4f) {
+    if (distance(before.x, before.y, after.x, after.y) < 1e-4f &&
+        std::fabs(after.theta - before.theta) < 1e-4f) {
         ++still_steps_;
     }
     return still_steps_ <= kStillLimit;

@@ -164,16 +164,16 @@ struct BitmapArena {
 
 /// Result of one baseline evaluation.
 struct BitmapEpisodeResult {
-    int collected = 0;       ///< balls scored over the three starts
-    double reward = 0;       ///< collected / 24
-    int steps = 0;           ///< steps run (12,000 unless stopped early)
-    bool stopped = false;    ///< the stand-still rule ended the evaluation
+    int collected = 0;     ///< balls scored over the three starts
+    double reward = 0;     ///< collected / 24
+    int steps = 0;         ///< steps run (12,000 unless stopped early)
+    bool stopped = false;  ///< the stand-still rule ended the evaluation
 };
 
 /// Caller-owned recording buffers, each may be empty.
 struct BitmapRecording {
-    std::span<float> behaviour;          ///< 4000 x 15 (row = step: 12 inputs, 3 outputs)
-    std::span<std::int32_t> cells;       ///< 80 x 2 grid cells (x, y) of the first start
+    std::span<float> behaviour;     ///< 4000 x 15 (row = step: 12 inputs, 3 outputs)
+    std::span<std::int32_t> cells;  ///< 80 x 2 grid cells (x, y) of the first start
 };
 
 /// The collectball evaluation as the original runs it, one step at a time

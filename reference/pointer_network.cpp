@@ -93,7 +93,8 @@ void PointerNetwork::step(const float* in, float* out) {
         std::size_t k = 0;
         for (const auto& edge : neuron.incoming) neuron.gathered[k++] = edge.source->current;
         float sum = 0;
-        for (std::size_t j = 0; j < neuron.gathered.size(); ++j) sum += neuron.weights[j] * neuron.gathered[j];
+        for (std::size_t j = 0; j < neuron.gathered.size(); ++j)
+            sum += neuron.weights[j] * neuron.gathered[j];
         neuron.next = 1.0f / (1.0f + std::exp(5.0f * neuron.bias - sum));
     }
 

@@ -22,7 +22,8 @@ ReferenceNetwork::ReferenceNetwork(const Genome& genome, const DnnConfig& config
     // one list node per neuron; a table of their addresses to link the edges
     std::vector<Node*> by_index;
     for (std::size_t n = 0; n < genome.neuron_count(); ++n) {
-        nodes_.push_back(Node{genome.kind(n), developed_scaled_bias(genome.biases()[n], config), 0.0f, 0.0f, {}});
+        nodes_.push_back(
+            Node{genome.kind(n), developed_scaled_bias(genome.biases()[n], config), 0.0f, 0.0f, {}});
         by_index.push_back(&nodes_.back());
     }
     // each neuron's incoming edges in ascending source order: the summation

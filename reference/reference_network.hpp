@@ -8,9 +8,9 @@
 
 namespace stepstone::reference {
 
-/// The tests' oracle of nn::Network and nn::NetworkLanes: a plain evaluation of the genome graph in nn2's manner (docs/original.md: network,
-/// 8.4): one heap node per neuron in a linked list, each holding a linked list
-/// of incoming edges that point to their source node, walked every step.
+/// The tests' oracle of nn::Network and nn::NetworkLanes: a plain evaluation of the genome graph in nn2's
+/// manner (docs/original.md: network, 8.4): one heap node per neuron in a linked list, each holding a linked
+/// list of incoming edges that point to their source node, walked every step.
 ///
 /// Each neuron sums its incoming edges in float, from 0, in ascending source
 /// index (not in the genome's connection order): the order that both layouts

@@ -122,9 +122,9 @@ void print_table(const std::vector<bench::CaseResult>& results) {
                       << "  not run: " << r.skipped << '\n';
             continue;
         }
-        std::cout << pad(r.name, 12, false) << pad(r.unit, 14, false) << pad(human(r.baseline_per_s), 12, true)
-                  << pad(human(r.candidate_per_s), 13, true) << pad(ratio, 9, true) << pad(rounds, 15, true)
-                  << pad(target, 9, true) << '\n';
+        std::cout << pad(r.name, 12, false) << pad(r.unit, 14, false)
+                  << pad(human(r.baseline_per_s), 12, true) << pad(human(r.candidate_per_s), 13, true)
+                  << pad(ratio, 9, true) << pad(rounds, 15, true) << pad(target, 9, true) << '\n';
     }
 }
 
@@ -136,8 +136,9 @@ void print_csv(const std::vector<bench::CaseResult>& results) {
             continue;
         }
         char line[256];
-        std::snprintf(line, sizeof line, "%s,%.6g,%.6g,%.4g,%.4g,%.4g,%zu\n", r.name.c_str(), r.baseline_per_s,
-                      r.candidate_per_s, r.ratio, r.ratio_min, r.ratio_max, r.baseline_rates.size());
+        std::snprintf(line, sizeof line, "%s,%.6g,%.6g,%.4g,%.4g,%.4g,%zu\n", r.name.c_str(),
+                      r.baseline_per_s, r.candidate_per_s, r.ratio, r.ratio_min, r.ratio_max,
+                      r.baseline_rates.size());
         std::cout << line;
     }
 }
@@ -223,14 +224,16 @@ void add_bench_command(CLI::App& app) {
                     "Cases to run (default: all; see --list); a case with a parameter runs every row of it "
                     "(serve: serve/1, serve/2, serve/8), CASE/VALUE one row");
     cmd->add_flag("--quick", options->quick, "Reduced workloads and fewer rounds: a few seconds in all");
-    cmd->add_flag("--csv", options->csv,
-                  "Print case,baseline_per_s,candidate_per_s,ratio,ratio_min,ratio_max,rounds (ratio: the median of "
-                  "the rounds' candidate / baseline)");
+    cmd->add_flag(
+        "--csv", options->csv,
+        "Print case,baseline_per_s,candidate_per_s,ratio,ratio_min,ratio_max,rounds (ratio: the median of "
+        "the rounds' candidate / baseline)");
     cmd->add_flag("--list", options->list, "List the cases of this build with their units and targets");
-    cmd->add_option("--target", options->targets,
-                    "CASE=RATIO: judge CASE (every row of a case with a parameter, or CASE/VALUE one row) "
-                    "against RATIO instead of its own target (repeatable; also judged by --quick, which otherwise "
-                    "judges none)")
+    cmd->add_option(
+           "--target", options->targets,
+           "CASE=RATIO: judge CASE (every row of a case with a parameter, or CASE/VALUE one row) "
+           "against RATIO instead of its own target (repeatable; also judged by --quick, which otherwise "
+           "judges none)")
         ->allow_extra_args(false);
     cmd->footer(example({"stepstone bench", "stepstone bench sim nn --csv", "stepstone bench --quick",
                          "stepstone bench episode --target episode=25", "stepstone bench serve/2",

@@ -7,8 +7,8 @@
 #include <cmath>
 #include <vector>
 
-#include "reference/fastsim_baseline.hpp"
 #include "core/rng.hpp"
+#include "reference/fastsim_baseline.hpp"
 #include "sim/sensors.hpp"
 #include "sim/task.hpp"
 

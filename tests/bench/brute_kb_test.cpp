@@ -2,23 +2,25 @@
 // within delta is credited, else the segment is inserted, and a policy's later segments
 // see the ones it inserted.
 
-#include <catch2/catch.hpp>
+#include "reference/brute_kb.hpp"
 
+#include <catch2/catch.hpp>
 #include <vector>
 
 #include "kb/knowledge_base.hpp"
-#include "reference/brute_kb.hpp"
 
 using namespace stepstone;
 
-TEST_CASE("the brute-force KB credits the nearest segment within delta and inserts the others", "[bench][kb]") {
+TEST_CASE("the brute-force KB credits the nearest segment within delta and inserts the others",
+          "[bench][kb]") {
     kb::KbParams params;
     params.segment_width = 1;
     params.channels = 2;
     params.delta = 1.0;
     const std::vector<float> values{0, 0, 5, 5};
     const std::vector<kb::SegmentRecord> records(2, kb::SegmentRecord{0.5, 1, {0, 0}, {0, 0}});
-    reference::BruteKb brute(kb::KnowledgeBase::from_segments(params, {kb::Source{"hand", 0, 0, 1}}, values, records));
+    reference::BruteKb brute(
+        kb::KnowledgeBase::from_segments(params, {kb::Source{"hand", 0, 0, 1}}, values, records));
     REQUIRE(brute.size() == 2);
     REQUIRE(brute.dim() == 2);
 

@@ -38,7 +38,8 @@ TEST_CASE("bench --csv prints the header the docs promise", "[bench][cli]") {
     ::setenv("OMPI_MCA_rmaps_base_oversubscribe", "1", 1);
     auto result = test::run_cli({"bench", "--quick", "--csv"});
     CHECK(result.exit_code == 0);
-    CHECK_THAT(result.out, StartsWith("case,baseline_per_s,candidate_per_s,ratio,ratio_min,ratio_max,rounds\n"));
+    CHECK_THAT(result.out,
+               StartsWith("case,baseline_per_s,candidate_per_s,ratio,ratio_min,ratio_max,rounds\n"));
     // serve is one case with a parameter: a row a client count, and no other serve rows
     CHECK_THAT(result.out, Contains("\nserve/1,") && Contains("\nserve/2,") && Contains("\nserve/8,"));
     CHECK_THAT(result.out, !Contains("\nserve,") && !Contains("serve-"));
@@ -63,7 +64,8 @@ TEST_CASE("bench --csv prints the header the docs promise", "[bench][cli]") {
     CHECK(rows >= 10);
 }
 
-TEST_CASE("bench selects a case with a parameter whole or by one row, and targets it the same way", "[bench][cli]") {
+TEST_CASE("bench selects a case with a parameter whole or by one row, and targets it the same way",
+          "[bench][cli]") {
     auto list = test::run_cli({"bench", "--list"});
     REQUIRE(list.exit_code == 0);
     CHECK_THAT(list.out, Contains("\nserve/1 ") && Contains("\nserve/2 ") && Contains("\nserve/8 "));
@@ -75,10 +77,12 @@ TEST_CASE("bench selects a case with a parameter whole or by one row, and target
     CHECK(result.exit_code == 1);
     CHECK_THAT(result.out, Contains("\nserve/2,") && !Contains("serve/1") && !Contains("serve/8"));
     REQUIRE(result.err_lines().size() == 1);
-    CHECK_THAT(result.err_lines()[0], Contains("1 case fell short of its target: serve/2 ") && Contains("< 1e+09x"));
+    CHECK_THAT(result.err_lines()[0],
+               Contains("1 case fell short of its target: serve/2 ") && Contains("< 1e+09x"));
 
     // a row's own target after the case's: the row's wins for that row
-    result = test::run_cli({"bench", "serve", "--quick", "--target", "serve=1e9", "--target", "serve/8=0.001"});
+    result =
+        test::run_cli({"bench", "serve", "--quick", "--target", "serve=1e9", "--target", "serve/8=0.001"});
     INFO(result.out << result.err);
     CHECK(result.exit_code == 1);
     REQUIRE(result.err_lines().size() == 1);
@@ -130,7 +134,8 @@ TEST_CASE("bench exits 1 after the whole table when a case falls short of its ta
     INFO(result.out << result.err);
     CHECK(result.exit_code == 0);
     CHECK(result.err.empty());
-    CHECK_THAT(result.out, StartsWith("case,baseline_per_s,candidate_per_s,ratio,ratio_min,ratio_max,rounds\nnn,"));
+    CHECK_THAT(result.out,
+               StartsWith("case,baseline_per_s,candidate_per_s,ratio,ratio_min,ratio_max,rounds\nnn,"));
 }
 
 TEST_CASE("a --target that is not CASE=RATIO of a case of this build is refused before anything runs",

@@ -1,8 +1,7 @@
-#include <catch2/catch.hpp>
-
-#include <vector>
-
 #include "reference/edit_distance_baseline.hpp"
+
+#include <catch2/catch.hpp>
+#include <vector>
 
 using namespace stepstone::reference;
 

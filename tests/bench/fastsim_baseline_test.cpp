@@ -1,10 +1,9 @@
-#include <catch2/catch.hpp>
+#include "reference/fastsim_baseline.hpp"
 
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <numbers>
 #include <vector>
-
-#include "reference/fastsim_baseline.hpp"
 
 using namespace stepstone::reference;
 

@@ -1,10 +1,9 @@
-#include <catch2/catch.hpp>
+#include "reference/pointer_network.hpp"
 
+#include <catch2/catch.hpp>
 #include <set>
 #include <stdexcept>
 #include <utility>
-
-#include "reference/pointer_network.hpp"
 
 using namespace stepstone::reference;
 

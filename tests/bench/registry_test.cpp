@@ -1,5 +1,6 @@
-#include <catch2/catch.hpp>
+#include "bench/registry.hpp"
 
+#include <catch2/catch.hpp>
 #include <chrono>
 #include <initializer_list>
 #include <memory>
@@ -8,7 +9,6 @@
 #include <utility>
 #include <vector>
 
-#include "bench/registry.hpp"
 #include "bench/runner.hpp"
 
 using namespace stepstone::bench;

@@ -1,12 +1,12 @@
-#include <catch2/catch.hpp>
+#include "nn/network.hpp"
 
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <thread>
 #include <vector>
 
 #include "nn/activation.hpp"
-#include "nn/network.hpp"
 #include "reference/reference_network.hpp"
 #include "support.hpp"
 
