@@ -19,7 +19,7 @@
 #include "sim/sensors.hpp"
 
 namespace stepstone {
-std::span<const EmbeddedFile> bench_fixture_files();  // generated from lib/bench/data
+std::span<const EmbeddedFile> bench_fixture_files();  // generated from bench/data
 }
 
 namespace stepstone::bench {

@@ -13,10 +13,10 @@ namespace stepstone::bench {
 inline constexpr std::array<double, 2> kShapedDeltas{1.83, 3.84};
 
 /// Registers `shaped-1.83` and `shaped-3.84`: a target-task generation of
-/// population 100 (restored from lib/bench/data/generation.json, so both sides
+/// population 100 (restored from bench/data/generation.json, so both sides
 /// evaluate the same children, on one thread) unshaped as the baseline and
 /// shaped by `sum` as the candidate. The KB is grown by replaying the 500
-/// source-run genomes of lib/bench/data/source_genomes.jsonl on the source
+/// source-run genomes of bench/data/source_genomes.jsonl on the source
 /// task and observing them at delta 1.83; the 3.84 one is it coarsened.
 /// scripts/bench-fixture regenerates both files from a run.
 void add_shaped_cases(Registry& registry);

@@ -1,6 +1,6 @@
 #pragma once
 
-// The case adders of lib/bench; default_registry() calls them in this order.
+// The case adders of bench/; default_registry() calls them in this order.
 
 #include "bench/registry.hpp"
 

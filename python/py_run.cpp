@@ -27,7 +27,7 @@ struct IndividualRec {
     double reward;
     double fitness;
     double diversity;
-    double shaping;  // NaN without a knowledge base
+    double r_max;  // NaN without a knowledge base
     std::int32_t balls;
     std::int64_t steps;
     std::int32_t presses;  // milestones; -1 in rows written before they were recorded
@@ -94,7 +94,7 @@ py::array_t<Rec> table(const PyRun& self, const char* sql, Bind&& bind, Row&& ro
 py::array_t<IndividualRec> individuals(const PyRun& self, std::optional<int> generation) {
     return table<IndividualRec>(
         self,
-        "SELECT id, generation, parent_id, reward, fitness, diversity, shaping, balls, steps, presses, "
+        "SELECT id, generation, parent_id, reward, fitness, diversity, r_max, balls, steps, presses, "
         "pickups, "
         "carry_steps, basket_releases FROM individual WHERE run_id = ?1 AND (?2 IS NULL OR generation = ?2) "
         "ORDER BY id",
@@ -193,7 +193,7 @@ py::object genome(const PyRun& self, const py::object& individual) {
 }  // namespace
 
 void bind_run(py::module_& m) {
-    PYBIND11_NUMPY_DTYPE(IndividualRec, id, generation, parent_id, reward, fitness, diversity, shaping, balls,
+    PYBIND11_NUMPY_DTYPE(IndividualRec, id, generation, parent_id, reward, fitness, diversity, r_max, balls,
                          steps, presses, pickups, carry_steps, basket_releases);
     PYBIND11_NUMPY_DTYPE(GenerationRec, generation, best_reward, mean_reward, median_reward, diversity_min,
                          diversity_max, evaluations, wall_time, time_simulation, time_kb, time_diversity,
@@ -250,7 +250,7 @@ void bind_run(py::module_& m) {
         .def(
             "individuals", &individuals, py::arg("generation") = py::none(),
             "One row per evaluated individual (of one generation if given): id, generation, parent_id (-1: "
-            "none), reward, fitness, diversity, shaping (NaN without a KB), balls, steps, and the milestones "
+            "none), reward, fitness, diversity, r_max (NaN without a KB), balls, steps, and the milestones "
             "presses, pickups, carry_steps, basket_releases (-1 where not recorded).")
         .def(
             "generations_frame", [](const PyRun& r) { return frame(generations(r)); },

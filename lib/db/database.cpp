@@ -84,6 +84,18 @@ int parse_version(std::string_view file_name) {
     return version;
 }
 
+// The first schema whose individual table names a policy's KB score r_max (0008_r_max.sql).
+constexpr int kRMaxVersion = 8;
+
+// A file older than a renaming migration, opened read-only, cannot be migrated; a
+// temporary view (temp objects come before the file's own in name lookup, and a
+// read-only connection may create them) shows the renamed column under its new name
+// too, so every statement reads old and new files alike.
+void show_old_names(Connection& connection, int schema_version) {
+    if (schema_version >= kRMaxVersion || schema_version < 2) return;  // 2 made the individual table
+    connection.exec("CREATE TEMP VIEW individual AS SELECT *, shaping AS r_max FROM main.individual");
+}
+
 }  // namespace
 
 const std::vector<Migration>& migrations() {
@@ -158,6 +170,7 @@ Connection open_database(const fs::path& path, OpenMode mode, bool allow_older, 
             throw DatabaseError(concat(name, ": schema version ", info.schema_version, " is older than this program (",
                                        latest, "); run: stepstone db migrate ", path.string()));
         }
+        show_old_names(connection, info.schema_version);
         return connection;
     }
     // the journal mode is left as the file has it until the caller starts writing

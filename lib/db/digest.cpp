@@ -80,7 +80,8 @@ private:
 
 std::string run_digest(Connection& connection) {
     // the digest reads the milestone columns of schema 5; later migrations add nothing it
-    // reads (6: a second form of the segment values, read as float32; 7: kb.counting)
+    // reads (6: a second form of the segment values, read as float32; 7: kb.counting;
+    // 8: the individual column shaping renamed r_max, shown under both names read-only)
     constexpr int kOldestDigestable = 5;
     const int version = database_info(connection).schema_version;
     if (version < kOldestDigestable) {

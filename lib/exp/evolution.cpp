@@ -254,7 +254,7 @@ runs::GenerationWrite Evolution::select(std::vector<Member> mixed, std::size_t f
         row.reward = m.reward;
         row.fitness = objectives[k][0];
         row.diversity = objectives[k][1];
-        row.shaping = m.r_max;
+        row.r_max = m.r_max;
         row.balls = m.balls;
         row.steps = m.steps;
         row.milestones = m.milestones;

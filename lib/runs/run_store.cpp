@@ -67,7 +67,7 @@ void write_generation(db::Connection& connection, RunRecord& run, const Generati
     const int p_run = individual.parameter(":run_id"), p_id = individual.parameter(":id"),
               p_gen = individual.parameter(":generation"), p_parent = individual.parameter(":parent_id"),
               p_reward = individual.parameter(":reward"), p_fitness = individual.parameter(":fitness"),
-              p_diversity = individual.parameter(":diversity"), p_shaping = individual.parameter(":shaping"),
+              p_diversity = individual.parameter(":diversity"), p_r_max = individual.parameter(":r_max"),
               p_balls = individual.parameter(":balls"), p_steps = individual.parameter(":steps"),
               p_presses = individual.parameter(":presses"), p_pickups = individual.parameter(":pickups"),
               p_carry = individual.parameter(":carry_steps"),
@@ -79,7 +79,7 @@ void write_generation(db::Connection& connection, RunRecord& run, const Generati
             .bind(p_reward, row.reward)
             .bind(p_fitness, row.fitness)
             .bind(p_diversity, row.diversity)
-            .bind(p_shaping, row.shaping)
+            .bind(p_r_max, row.r_max)
             .bind(p_balls, row.balls)
             .bind(p_steps, static_cast<std::int64_t>(row.steps))
             .bind(p_presses, row.milestones.presses)

@@ -38,7 +38,7 @@ struct IndividualRow {
     double reward = 0;
     double fitness = 0;
     double diversity = 0;
-    std::optional<double> shaping;
+    std::optional<double> r_max;  ///< the policy's KB score, absent without a KB
     int balls = 0;
     long steps = 0;
     sim::Milestones milestones;  ///< presses, pickups, carry_steps, basket_releases (schema 0005)

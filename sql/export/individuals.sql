@@ -1,5 +1,5 @@
 -- stepstone export --what individuals: one row per evaluated individual (NULL parent_id
--- for generation 0, NULL shaping without a shaping KB: empty CSV fields), with its
+-- for generation 0, NULL r_max without a shaping KB: empty CSV fields), with its
 -- milestones summed over its starts (docs/simulator.md: milestones)
 SELECT i.id AS id,
        i.generation AS generation,
@@ -7,7 +7,7 @@ SELECT i.id AS id,
        i.reward AS reward,
        i.fitness AS fitness,
        i.diversity AS diversity,
-       i.shaping AS shaping,
+       i.r_max AS r_max,
        i.balls AS balls,
        i.steps AS steps,
        i.presses AS presses,

@@ -7,7 +7,7 @@ FROM run ORDER BY id;
 SELECT run_id, generation, best_reward, mean_reward, median_reward, front_sizes, diversity_min,
        diversity_max, evaluations
 FROM generation ORDER BY run_id, generation;
-SELECT run_id, id, generation, parent_id, reward, fitness, diversity, shaping, balls, steps,
+SELECT run_id, id, generation, parent_id, reward, fitness, diversity, r_max, balls, steps,
        presses, pickups, carry_steps, basket_releases
 FROM individual ORDER BY run_id, id;
 SELECT run_id, individual_id, genome FROM genome ORDER BY run_id, individual_id;

@@ -3,6 +3,6 @@
 -- (NULL without a shaping KB)
 SELECT count(*),
        coalesce(sum(balls > 0), 0),
-       avg(CASE WHEN generation >= :from THEN shaping END)
+       avg(CASE WHEN generation >= :from THEN r_max END)
 FROM individual
 WHERE run_id = :run_id AND generation <= :to

@@ -247,7 +247,7 @@ TEST_CASE("the README's transfer example shapes for real: the demo KB gives poli
     const auto exported =
         test::run_cli({"export", (dir / "sum.db").string(), "--what", "individuals", "--csv", "-"});
     REQUIRE(exported.exit_code == 0);
-    // some policy's r_max (the `shaping` column) is above 0
+    // some policy's r_max (the `r_max` column) is above 0
     const auto split = [](const std::string& line) {
         std::vector<std::string> fields;
         std::istringstream in(line);
@@ -258,7 +258,7 @@ TEST_CASE("the README's transfer example shapes for real: the demo KB gives poli
     std::string line;
     std::getline(rows, line);
     const auto header = split(line);
-    const auto column = std::find(header.begin(), header.end(), "shaping") - header.begin();
+    const auto column = std::find(header.begin(), header.end(), "r_max") - header.begin();
     REQUIRE(static_cast<std::size_t>(column) < header.size());
     bool positive = false;
     while (std::getline(rows, line)) {

@@ -56,17 +56,27 @@ void check_schema_applied(db::Connection& connection, const std::vector<fs::path
             CHECK(statement.column_int(0) == 1);
             ++checked;
         }
-        // ALTER TABLE t ADD COLUMN c: the column is in t
+        // ALTER TABLE t ADD COLUMN c, or ALTER TABLE t RENAME COLUMN a TO c: c is in t (and a, renamed
+        // by a later file than the one that made it, is not)
         const auto altered = names_after(sql, "ALTER TABLE ");
         const auto added = names_after(sql, "ADD COLUMN ");
-        REQUIRE(altered.size() == added.size());
-        for (std::size_t i = 0; i < added.size(); ++i) {
-            CAPTURE(altered[i], added[i]);
+        const auto renamed = names_after(sql, "RENAME COLUMN ");
+        const auto renamed_to = names_after(sql, " TO ");
+        REQUIRE(renamed.size() == renamed_to.size());
+        REQUIRE(altered.size() == added.size() + renamed.size());
+        const auto columns_named = [&](const std::string& table, const std::string& column) {
             auto statement = connection.prepare("SELECT count(*) FROM pragma_table_info(?1) WHERE name = ?2");
-            statement.bind(1, altered[i]);
-            statement.bind(2, added[i]);
+            statement.bind(1, table);
+            statement.bind(2, column);
             REQUIRE(statement.step());
-            CHECK(statement.column_int(0) == 1);
+            return statement.column_int(0);
+        };
+        for (std::size_t i = 0; i < altered.size(); ++i) {
+            const bool renaming = i >= added.size();
+            const std::string& column = renaming ? renamed_to[i - added.size()] : added[i];
+            CAPTURE(altered[i], column);
+            CHECK(columns_named(altered[i], column) == 1);
+            if (renaming) CHECK(columns_named(altered[i], renamed[i - added.size()]) == 0);
             ++checked;
         }
     }

@@ -2,6 +2,7 @@
 
 #include "db/database.hpp"
 #include "db/digest.hpp"
+#include "support/db_files.hpp"
 #include "support/temp_dir.hpp"
 
 using namespace stepstone;
@@ -19,7 +20,7 @@ std::string digest_of(const std::filesystem::path& path, bool reversed, double w
                     std::to_string(wall_time) + ", 0.5, 0, 0.1, 0.01, " +
                     std::to_string(wall_time / 10) + ")");
     const std::string columns =
-        "INSERT INTO individual (run_id, id, generation, parent_id, reward, fitness, diversity, shaping, "
+        "INSERT INTO individual (run_id, id, generation, parent_id, reward, fitness, diversity, r_max, "
         "balls, "
         "steps, presses, pickups, carry_steps, basket_releases) VALUES ";
     const std::string a = columns + "(1, 1, 0, NULL, " + std::to_string(reward) +
@@ -41,4 +42,38 @@ TEST_CASE("the run digest ignores row order and timings but not results", "[db][
     CHECK(digest_of(dir / "c.db", false, 1.0, 0.5) != base);
     // one milestone differs
     CHECK(digest_of(dir / "d.db", false, 1.0, 0.25, 3) != base);
+}
+
+TEST_CASE("a file of schema 7 reads its KB score as r_max, read-only and migrated, with its digest",
+          "[db][digest][migrate]") {
+    test::TempDir dir;
+    const auto path = dir / "seven.db";
+    digest_of(path, false, 1.0);
+    test::raw_exec(path, "UPDATE individual SET r_max = 0.125 WHERE id = 1");
+    const std::string recorded = [&] {
+        auto connection = db::open_database(path, db::OpenMode::read_only);
+        return db::run_digest(connection);
+    }();
+    // the file as schema 7 wrote it: the score in a column named shaping
+    test::raw_exec(path, "ALTER TABLE individual RENAME COLUMN r_max TO shaping; PRAGMA user_version = 7");
+    const auto score = [](db::Connection& connection, const std::string& column) {
+        auto statement = connection.prepare("SELECT " + column + " FROM individual WHERE id = 1");
+        REQUIRE(statement.step());
+        return statement.column_double(0);
+    };
+    {
+        auto connection = db::open_database(path, db::OpenMode::read_only);
+        CHECK(score(connection, "r_max") == 0.125);
+        CHECK(score(connection, "shaping") == 0.125);
+        CHECK(db::run_digest(connection) == recorded);
+        CHECK(connection.query_int("PRAGMA user_version") == 7);  // read-only: the file is not migrated
+    }
+    {
+        auto connection = db::open_database(path, db::OpenMode::read_write);
+        CHECK(connection.query_int("PRAGMA user_version") >= 8);
+        CHECK(score(connection, "r_max") == 0.125);
+        CHECK(connection.query_int("SELECT count(*) FROM pragma_table_info('individual') WHERE name = 'shaping'") ==
+              0);
+        CHECK(db::run_digest(connection) == recorded);
+    }
 }

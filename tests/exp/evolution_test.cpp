@@ -197,18 +197,18 @@ double oracle_r_max(const kb::KnowledgeBase& base, const std::vector<float>& beh
 
 struct Row {
     double reward, fitness, diversity;
-    std::optional<double> shaping;
+    std::optional<double> r_max;
 };
 
 std::vector<Row> individuals(const std::filesystem::path& path) {
     auto connection = db::open_database(path, db::OpenMode::read_only);
     auto statement =
-        connection.prepare("SELECT reward, fitness, diversity, shaping FROM individual ORDER BY id");
+        connection.prepare("SELECT reward, fitness, diversity, r_max FROM individual ORDER BY id");
     std::vector<Row> rows;
     while (statement.step()) {
         Row row{statement.column_double(0), statement.column_double(1), statement.column_double(2),
                 std::nullopt};
-        if (statement.column_type(3) != db::Statement::Type::null) row.shaping = statement.column_double(3);
+        if (statement.column_type(3) != db::Statement::Type::null) row.r_max = statement.column_double(3);
         rows.push_back(row);
     }
     return rows;
@@ -233,8 +233,8 @@ TEST_CASE("evolve sum: every fitness is reward + the hand-computed bonus", "[exp
     const auto rows = individuals(dir / "sum.db");
     REQUIRE(rows.size() == 16 + 2 * 8);
     for (const auto& row : rows) {
-        REQUIRE(row.shaping);
-        CHECK(*row.shaping == 0.2);
+        REQUIRE(row.r_max);
+        CHECK(*row.r_max == 0.2);
         CHECK(row.fitness == Approx(row.reward + 0.25 * kBall * (1.0 - 1.0 / 1024)).epsilon(1e-14));
     }
     CHECK(run_text(dir / "sum.db", "SELECT treatment FROM run") == "sum");
@@ -251,7 +251,7 @@ TEST_CASE("evolve sum with a KB whose r_max differs by policy: each policy's r_m
                 .exit_code == 0);
     const double top = 21.0 / 22.0;  // the largest of the scrambled averages
     auto connection = db::open_database(dir / "sum.db", db::OpenMode::read_only);
-    auto rows = connection.prepare("SELECT id, reward, fitness, shaping FROM individual ORDER BY id");
+    auto rows = connection.prepare("SELECT id, reward, fitness, r_max FROM individual ORDER BY id");
     std::size_t checked = 0;
     std::set<double> values;
     while (rows.step()) {
@@ -278,8 +278,8 @@ TEST_CASE("evolve mo: r_max is the third objective and fitness stays the reward"
     REQUIRE(evolve(dir, "mo.db", {"--kb", (dir / "kb.db").string(), "--treatment", "mo"}).exit_code == 0);
     for (const auto& row : individuals(dir / "mo.db")) {
         CHECK(row.fitness == row.reward);
-        REQUIRE(row.shaping);
-        CHECK(*row.shaping == Approx(0.3).epsilon(1e-15));
+        REQUIRE(row.r_max);
+        CHECK(*row.r_max == Approx(0.3).epsilon(1e-15));
     }
     // the survivors were selected on three objectives
     const auto objectives =
@@ -300,9 +300,9 @@ TEST_CASE("evolve none: no KB, no shaping, and with a KB r_max is recorded but n
     const auto none = individuals(dir / "none.db");
     REQUIRE(plain.size() == none.size());
     for (std::size_t k = 0; k < plain.size(); ++k) {
-        CHECK(!plain[k].shaping);
-        REQUIRE(none[k].shaping);
-        CHECK(*none[k].shaping == 0.2);
+        CHECK(!plain[k].r_max);
+        REQUIRE(none[k].r_max);
+        CHECK(*none[k].r_max == 0.2);
         // same seed, same objectives: the recorded r_max changed nothing
         CHECK(none[k].fitness == plain[k].fitness);
         CHECK(none[k].diversity == plain[k].diversity);
@@ -324,9 +324,9 @@ TEST_CASE("rand treatments use the randomized KB and record which", "[exp][treat
     const double near = draws.uniform();
     const double top = std::max(near, draws.uniform());
     for (const auto& row : individuals(dir / "sr.db")) {
-        REQUIRE(row.shaping);
+        REQUIRE(row.r_max);
         // the zero segment's randomized average, normalised by the randomized KB's best
-        CHECK(*row.shaping == near);
+        CHECK(*row.r_max == near);
         CHECK(row.fitness == Approx(row.reward + near / top * kBall * (1.0 - 1.0 / 1024)).epsilon(1e-14));
     }
     CHECK(run_text(dir / "sr.db", "SELECT treatment FROM run") == "sum-rand");

@@ -380,7 +380,7 @@ TEST_CASE("a seeded run can be shaped too: seed-sum, bit for bit across threads"
     for (std::size_t k = 0; k < expected.size(); ++k) CHECK(genomes[k] == expected[k]);
     // every policy shaped: r_max recorded, the fitness above the reward by the sum bonus
     auto connection = db::open_database(dir / "one.db", db::OpenMode::read_only);
-    CHECK(connection.query_int("SELECT count(*) FROM individual WHERE shaping IS NULL").value_or(-1) == 0);
+    CHECK(connection.query_int("SELECT count(*) FROM individual WHERE r_max IS NULL").value_or(-1) == 0);
     CHECK(connection.query_int("SELECT count(*) FROM individual WHERE fitness <= reward").value_or(-1) == 0);
 }
 

@@ -148,7 +148,7 @@ TEST_CASE("evolve --mpi with 2 and 3 ranks gives the single-process digest, KB l
     CHECK(digest_of(dir / "mo-3.db") == digest_of(dir / "mo-1.db"));
     // the digest covers r_max: most of these policies match the KB
     auto run = db::open_database(dir / "mo-1.db", db::OpenMode::read_only);
-    CHECK(run.query_int("SELECT count(*) FROM individual WHERE shaping > 0") > 80);
+    CHECK(run.query_int("SELECT count(*) FROM individual WHERE r_max > 0") > 80);
 }
 
 TEST_CASE(

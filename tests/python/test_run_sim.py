@@ -134,7 +134,7 @@ class Runs(unittest.TestCase):
         np.testing.assert_array_equal(table["reward"], [r[3] for r in rows])
         np.testing.assert_array_equal(table["steps"], [r[5] for r in rows])
         np.testing.assert_array_equal(table["presses"], [r[6] for r in rows])
-        self.assertTrue(np.isnan(table["shaping"]).all(), "a run without a KB shapes nothing")
+        self.assertTrue(np.isnan(table["r_max"]).all(), "a run without a KB shapes nothing")
         third = self.stored.individuals(generation=3)
         np.testing.assert_array_equal(third["id"], [r[0] for r in rows if r[1] == 3])
         generations = self.stored.generations()

@@ -66,7 +66,7 @@ TEST_CASE("the two-rooms arena evolves shaped by a paper-arena KB, renders and s
     REQUIRE(shaped.exit_code == 0);
     const auto answer = nlohmann::json::parse(shaped.out);
     db::Connection connection(dir / "run.db", db::OpenMode::read_only);
-    auto query = connection.prepare("SELECT shaping FROM individual WHERE id = ?1");
+    auto query = connection.prepare("SELECT r_max FROM individual WHERE id = ?1");
     query.bind(1, answer["individual_id"].get<std::int64_t>());
     REQUIRE(query.step());
     CHECK(answer["r_max"].get<double>() == query.column_double(0));

@@ -42,11 +42,11 @@ void set_hand_bests(const std::filesystem::path& camp) {
 void set_hand_signal(const std::filesystem::path& camp) {
     {
         auto connection = db::open_database(camp / "target" / "sum" / "seed-1.db", db::OpenMode::read_write);
-        connection.exec("UPDATE individual SET shaping = CASE WHEN generation = 2 THEN 0.25 ELSE 0.875 END");
+        connection.exec("UPDATE individual SET r_max = CASE WHEN generation = 2 THEN 0.25 ELSE 0.875 END");
     }
     {
         auto connection = db::open_database(camp / "target" / "sum" / "seed-2.db", db::OpenMode::read_write);
-        connection.exec("UPDATE individual SET shaping = 0.75");
+        connection.exec("UPDATE individual SET r_max = 0.75");
     }
     auto connection = db::open_database(camp / "target" / "mo" / "seed-1.db", db::OpenMode::read_write);
     connection.exec(

@@ -36,7 +36,7 @@ void write_tiny_run(const std::filesystem::path& path) {
     write.stats.diversity_max = 3;
     write.stats.evaluations = 3;
     write.checkpoint = nlohmann::json::object();
-    // id, generation, parent, reward, fitness, diversity, shaping, balls, steps, milestones
+    // id, generation, parent, reward, fitness, diversity, r_max, balls, steps, milestones
     runs::IndividualRow a{0, 0, std::nullopt, 0.5, 0.75, 2.5, 0.25, 1, 400, {3, 1, 20, 1}};
     runs::IndividualRow b{1, 0, std::nullopt, 0.125, 0.125, 1.5, std::nullopt, 0, 120, {0, 0, 0, 0}};
     runs::IndividualRow c{2, 0, 0, 0.25, 0.5, 3, 0.5, 0, 400, {1, 0, 0, 0}};
@@ -63,9 +63,9 @@ TEST_CASE("export of a tiny run file: the header and a row per individual or gen
     const auto rows = lines_of(individuals.str());
     REQUIRE(rows.size() == 4);
     CHECK(rows[0] ==
-          "task,treatment,seed,id,generation,parent_id,reward,fitness,diversity,shaping,balls,steps,presses,"
+          "task,treatment,seed,id,generation,parent_id,reward,fitness,diversity,r_max,balls,steps,presses,"
           "pickups,carry_steps,basket_releases");
-    // an absent parent or shaping is an empty field
+    // an absent parent or r_max is an empty field
     CHECK(rows[1] == "target,sum,7,0,0,,0.5,0.75,2.5,0.25,1,400,3,1,20,1");
     CHECK(rows[2] == "target,sum,7,1,0,,0.125,0.125,1.5,,0,120,0,0,0,0");
     CHECK(rows[3] == "target,sum,7,2,0,0,0.25,0.5,3,0.5,0,400,1,0,0,0");

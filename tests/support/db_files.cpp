@@ -49,7 +49,7 @@ void make_schema4_run(const std::filesystem::path& path) {
         path,
         "ALTER TABLE individual DROP COLUMN presses; ALTER TABLE individual DROP COLUMN pickups;"
         "ALTER TABLE individual DROP COLUMN carry_steps; ALTER TABLE individual DROP COLUMN basket_releases;"
-        "ALTER TABLE kb DROP COLUMN counting;"
+        "ALTER TABLE kb DROP COLUMN counting; ALTER TABLE individual RENAME COLUMN r_max TO shaping;"
         "PRAGMA user_version = 4;");
 }
 
