@@ -9,6 +9,7 @@
 #include <cmath>
 #include <memory>
 #include <numbers>
+#include <utility>
 
 #include "core/rng.hpp"
 #include "kb/knowledge_base.hpp"
@@ -238,52 +239,42 @@ Sizes sizes_of(Size size) {
 }
 
 struct KbState {
+    KbState(kb::KnowledgeBase k, Generation g) : kb(std::move(k)), generation(std::move(g)), brute(kb) {}
     kb::KnowledgeBase kb;
     Generation generation;
     reference::BruteKb brute;
-    std::size_t policies;
 };
 
-Workload make_observe_workload(Size size) {
-    const Sizes s = sizes_of(size);
-    auto state = std::make_shared<KbState>(
-        KbState{realistic_kb(s.kb_size, 1000), realistic_generation(s.generation, 77),
-                reference::BruteKb(kb::KnowledgeBase(paper_params())), s.generation});
-    state->brute = reference::BruteKb(state->kb);
-    Work baseline = [state, slice = s.batched_slice] {
+// both sides observe the generation into the KB as it was: the baseline its first
+// `baseline_policies` policies by brute force (a slice: the whole generation would take
+// minutes), the candidate all of them with the index
+Workload observe_workload(kb::KnowledgeBase base, Generation generation, std::size_t baseline_policies) {
+    auto state = std::make_shared<KbState>(std::move(base), std::move(generation));
+    Work baseline = [state, baseline_policies] {
         state->brute.reset();
-        for (std::size_t p = 0; p < slice; ++p)
+        for (std::size_t p = 0; p < baseline_policies; ++p)
             state->brute.observe_batched(state->generation.policy(p), kSegmentsPerPolicy,
                                          state->generation.rewards[p]);
-        return static_cast<std::uint64_t>(slice * kSegmentsPerPolicy);
+        return static_cast<std::uint64_t>(baseline_policies * kSegmentsPerPolicy);
     };
     Work candidate = [state] {
         kb::KnowledgeBase kb = state->kb;
-        observe_with_index(kb, state->generation, state->policies);
+        observe_with_index(kb, state->generation, state->generation.policies);
         return static_cast<std::uint64_t>(state->generation.queries());
     };
     return Workload{baseline, candidate};
 }
 
+Workload make_observe_workload(Size size) {
+    const Sizes s = sizes_of(size);
+    return observe_workload(realistic_kb(s.kb_size, 1000), realistic_generation(s.generation, 77),
+                            s.batched_slice);
+}
+
 Workload make_uniform_workload(Size size) {
     const Sizes s = sizes_of(size);
-    auto state = std::make_shared<KbState>(
-        KbState{uniform_kb(s.uniform_kb, 5), uniform_generation(s.uniform_policies, 6),
-                reference::BruteKb(kb::KnowledgeBase(paper_params())), s.uniform_policies});
-    state->brute = reference::BruteKb(state->kb);
-    Work baseline = [state] {
-        state->brute.reset();
-        for (std::size_t p = 0; p < state->policies; ++p)
-            state->brute.observe_batched(state->generation.policy(p), kSegmentsPerPolicy,
-                                         state->generation.rewards[p]);
-        return static_cast<std::uint64_t>(state->generation.queries());
-    };
-    Work candidate = [state] {
-        kb::KnowledgeBase kb = state->kb;
-        observe_with_index(kb, state->generation, state->policies);
-        return static_cast<std::uint64_t>(state->generation.queries());
-    };
-    return Workload{baseline, candidate};
+    return observe_workload(uniform_kb(s.uniform_kb, 5), uniform_generation(s.uniform_policies, 6),
+                            s.uniform_policies);
 }
 
 struct LoadState {

@@ -18,11 +18,8 @@ std::string_view case_of(std::string_view name) { return name.substr(0, name.fin
 void Registry::add(Case c) {
     if (c.name.empty()) throw std::invalid_argument("bench case without a name");
     if (find(c.name) != nullptr) throw std::invalid_argument("bench case registered twice: " + c.name);
-    const bool row = c.name.find('/') != std::string::npos;
     for (const auto& other : cases_) {
-        const bool other_row = other.name.find('/') != std::string::npos;
-        if ((row && !other_row && other.name == case_of(c.name)) ||
-            (!row && other_row && case_of(other.name) == c.name))
+        if (other.name == case_of(c.name) || case_of(other.name) == c.name)
             throw std::invalid_argument("bench case " + c.name + " is ambiguous beside " + other.name);
     }
     cases_.push_back(std::move(c));
@@ -30,10 +27,10 @@ void Registry::add(Case c) {
 
 std::vector<const Case*> Registry::select(std::string_view name) const {
     if (const Case* exact = find(name)) return {exact};
+    // every other case whose name starts with `name/` is a row of it
     std::vector<const Case*> rows;
-    if (name.find('/') != std::string_view::npos) return rows;
     for (const auto& c : cases_) {
-        if (c.name.find('/') != std::string::npos && case_of(c.name) == name) rows.push_back(&c);
+        if (case_of(c.name) == name) rows.push_back(&c);
     }
     return rows;
 }

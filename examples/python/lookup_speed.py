@@ -23,7 +23,7 @@ import numpy as np
 import stepstone
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-DEFAULT_GENOMES = os.path.join(HERE, "..", "..", "lib", "bench", "data", "source_genomes.jsonl")
+DEFAULT_GENOMES = os.path.join(HERE, "..", "..", "bench", "data", "source_genomes.jsonl")
 
 
 def source_kb(genomes_path, delta, count):
