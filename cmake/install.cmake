@@ -4,7 +4,7 @@
 # Included from the top-level CMakeLists.txt after every target exists.
 include(CMakePackageConfigHelpers)
 
-# the installable libraries in dependency order (bench is the binary's own)
+# the installable libraries in dependency order (bench/ and reference/ are not the library's)
 set(STEPSTONE_INSTALLED_MODULES core sim nn evo kb db stats runs exp report service)
 set(installed_targets stepstone_flags)
 foreach(module ${STEPSTONE_INSTALLED_MODULES})
@@ -19,8 +19,7 @@ install(TARGETS ${installed_targets} EXPORT stepstoneTargets
     ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
     INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/stepstone)
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/lib/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/stepstone
-    FILES_MATCHING PATTERN "*.hpp"
-    PATTERN "bench" EXCLUDE)
+    FILES_MATCHING PATTERN "*.hpp")
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/schema ${PROJECT_SOURCE_DIR}/sql ${PROJECT_SOURCE_DIR}/queries
     DESTINATION ${CMAKE_INSTALL_DATADIR}/stepstone)
 

@@ -1,5 +1,6 @@
-// stepstone bench [CASE...] [--quick] [--csv] [--list]
+// stepstone bench [CASE...] [--quick] [--csv] [--list] [--target CASE=RATIO]
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
@@ -26,7 +27,8 @@ struct BenchOptions {
     std::vector<std::string> targets;  ///< CASE=RATIO, replacing a case's own target
 };
 
-// --target CASE=RATIO, each naming a case of this build and a positive ratio
+// --target CASE=RATIO, each naming a case of this build (a case with a parameter: every row of
+// it, or one row CASE/VALUE) and a positive ratio; keyed by row, a later one wins
 std::map<std::string, double> parse_targets(const std::vector<std::string>& given,
                                             const bench::Registry& registry) {
     std::map<std::string, double> targets;
@@ -35,8 +37,8 @@ std::map<std::string, double> parse_targets(const std::vector<std::string>& give
         if (equals == std::string::npos)
             throw ConfigError("--target '" + text + "' is not CASE=RATIO (e.g. --target sim=25)");
         const std::string name = text.substr(0, equals);
-        if (registry.find(name) == nullptr)
-            throw ConfigError("--target names no bench case '" + name + "' (see --list)");
+        const std::vector<const bench::Case*> rows = registry.select(name);
+        if (rows.empty()) throw ConfigError("--target names no bench case '" + name + "' (see --list)");
         const std::string number = text.substr(equals + 1);
         std::size_t used = 0;
         double ratio = 0;
@@ -47,13 +49,13 @@ std::map<std::string, double> parse_targets(const std::vector<std::string>& give
         }
         if (used == 0 || used != number.size() || !std::isfinite(ratio) || ratio <= 0)
             throw ConfigError("--target " + name + "='" + number + "' is not a positive ratio");
-        targets[name] = ratio;
+        for (const bench::Case* row : rows) targets[row->name] = ratio;
     }
     return targets;
 }
 
-// the rows that fell short of their targets (--target's already in target_ratio), "kb-loop
-// 156x < 500x" each; a quick run judges only the targets given with --target (its reduced
+// the rows that fell short of their targets (--target's already in target_ratio), "kb
+// 46.2x < 50x" each; a quick run judges only the targets given with --target (its reduced
 // workloads are not what the targets are for)
 std::vector<std::string> short_of_targets(const std::vector<bench::CaseResult>& results,
                                           const std::map<std::string, double>& targets, bool quick) {
@@ -101,35 +103,42 @@ void print_list(const bench::Registry& registry) {
     }
 }
 
+// the ratio column is the paired ratio (the median of the rounds' ratios), the rounds column
+// their least and greatest
 void print_table(const std::vector<bench::CaseResult>& results) {
     std::cout << pad("case", 12, false) << pad("unit", 14, false) << pad("baseline/s", 12, true)
-              << pad("candidate/s", 13, true) << pad("ratio", 9, true) << pad("target", 9, true) << '\n';
+              << pad("candidate/s", 13, true) << pad("ratio", 9, true) << pad("rounds", 15, true)
+              << pad("target", 9, true) << '\n';
     for (const auto& r : results) {
         char ratio[32];
+        char rounds[48];
         char target[32];
         std::snprintf(ratio, sizeof ratio, "%.2fx", r.ratio);
+        std::snprintf(rounds, sizeof rounds, "%.3g-%.3gx", r.ratio_min, r.ratio_max);
         std::snprintf(target, sizeof target, "%gx", r.target_ratio);
         if (!r.skipped.empty()) {
             std::cout << pad(r.name, 12, false) << pad(r.unit, 14, false) << pad("-", 12, true)
-                      << pad("-", 13, true) << pad("-", 9, true) << pad(target, 9, true)
+                      << pad("-", 13, true) << pad("-", 9, true) << pad("-", 15, true) << pad(target, 9, true)
                       << "  not run: " << r.skipped << '\n';
             continue;
         }
-        std::cout << pad(r.name, 12, false) << pad(r.unit, 14, false) << pad(human(r.baseline_per_s), 12, true)
-                  << pad(human(r.candidate_per_s), 13, true) << pad(ratio, 9, true) << pad(target, 9, true) << '\n';
+        std::cout << pad(r.name, 12, false) << pad(r.unit, 14, false)
+                  << pad(human(r.baseline_per_s), 12, true) << pad(human(r.candidate_per_s), 13, true)
+                  << pad(ratio, 9, true) << pad(rounds, 15, true) << pad(target, 9, true) << '\n';
     }
 }
 
 void print_csv(const std::vector<bench::CaseResult>& results) {
-    std::cout << "case,baseline_per_s,candidate_per_s,ratio\n";
+    std::cout << "case,baseline_per_s,candidate_per_s,ratio,ratio_min,ratio_max,rounds\n";
     for (const auto& r : results) {
         if (!r.skipped.empty()) {
-            std::cout << r.name << ",,,\n";  // not run: empty fields (the reason is on stderr)
+            std::cout << r.name << ",,,,,,\n";  // not run: empty fields (the reason is on stderr)
             continue;
         }
         char line[256];
-        std::snprintf(line, sizeof line, "%s,%.6g,%.6g,%.4g\n", r.name.c_str(), r.baseline_per_s, r.candidate_per_s,
-                      r.ratio);
+        std::snprintf(line, sizeof line, "%s,%.6g,%.6g,%.4g,%.4g,%.4g,%zu\n", r.name.c_str(),
+                      r.baseline_per_s, r.candidate_per_s, r.ratio, r.ratio_min, r.ratio_max,
+                      r.baseline_rates.size());
         std::cout << line;
     }
 }
@@ -145,14 +154,16 @@ void run_bench(const BenchOptions& options) {
     const std::map<std::string, double> targets = parse_targets(options.targets, registry);
     std::vector<const bench::Case*> selected;
     for (const auto& name : options.cases) {
-        const bench::Case* c = registry.find(name);
-        if (c == nullptr) {
+        const std::vector<const bench::Case*> rows = registry.select(name);
+        if (rows.empty()) {
             std::string known;
             for (const auto& n : registry.names()) known += (known.empty() ? "" : ", ") + n;
             throw ConfigError("unknown bench case '" + name + "' (this build has: " +
                               (known.empty() ? std::string("none") : known) + ")");
         }
-        selected.push_back(c);
+        for (const bench::Case* row : rows) {  // each row once, in the order first named
+            if (std::find(selected.begin(), selected.end(), row) == selected.end()) selected.push_back(row);
+        }
     }
     if (options.cases.empty()) {
         for (const auto& c : registry.cases()) selected.push_back(&c);
@@ -209,16 +220,24 @@ namespace {
 void add_bench_command(CLI::App& app) {
     auto options = std::make_shared<BenchOptions>();
     auto* cmd = app.add_subcommand("bench", "Time each hot path against its baseline in the same process");
-    cmd->add_option("case", options->cases, "Cases to run (default: all; see --list)");
+    cmd->add_option("case", options->cases,
+                    "Cases to run (default: all; see --list); a case with a parameter runs every row of it "
+                    "(serve: serve/1, serve/2, serve/8), CASE/VALUE one row");
     cmd->add_flag("--quick", options->quick, "Reduced workloads and fewer rounds: a few seconds in all");
-    cmd->add_flag("--csv", options->csv, "Print case,baseline_per_s,candidate_per_s,ratio");
+    cmd->add_flag(
+        "--csv", options->csv,
+        "Print case,baseline_per_s,candidate_per_s,ratio,ratio_min,ratio_max,rounds (ratio: the median of "
+        "the rounds' candidate / baseline)");
     cmd->add_flag("--list", options->list, "List the cases of this build with their units and targets");
-    cmd->add_option("--target", options->targets,
-                    "CASE=RATIO: judge CASE against RATIO instead of its own target (repeatable; "
-                    "also judged by --quick, which otherwise judges none)")
+    cmd->add_option(
+           "--target", options->targets,
+           "CASE=RATIO: judge CASE (every row of a case with a parameter, or CASE/VALUE one row) "
+           "against RATIO instead of its own target (repeatable; also judged by --quick, which otherwise "
+           "judges none)")
         ->allow_extra_args(false);
     cmd->footer(example({"stepstone bench", "stepstone bench sim nn --csv", "stepstone bench --quick",
-                         "stepstone bench episode --target episode=25", "stepstone bench --list"}) +
+                         "stepstone bench episode --target episode=25", "stepstone bench serve/2",
+                         "stepstone bench --list"}) +
                 "\nExit status 1, after the whole table, when a case that ran fell short of its target.");
     cmd->callback([options] { run_bench(*options); });
 }

@@ -7,11 +7,11 @@
 
 #include "commands.hpp"
 #include "core/error.hpp"
-#include "core/mpi.hpp"
 #include "core/text.hpp"
 #include "evolve_flags.hpp"
 #include "exp/campaign/campaign.hpp"
 #include "exp/campaign/campaign_mpi.hpp"
+#include "exp/parallel/mpi.hpp"
 
 namespace stepstone::app {
 

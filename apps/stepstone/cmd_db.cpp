@@ -8,10 +8,11 @@
 #include "core/error.hpp"
 #include "core/math_fingerprint.hpp"
 #include "core/text.hpp"
-#include "core/writer_lock.hpp"
 #include "db/database.hpp"
 #include "db/digest.hpp"
 #include "db/inspect.hpp"
+#include "exp/parallel/writer_lock.hpp"
+#include "runs/run_store.hpp"
 
 namespace stepstone::app {
 
@@ -88,7 +89,7 @@ void run_db_migrate(const std::string& file) {
 
 void run_db_digest(const std::string& file) {
     auto connection = db::open_database(file, db::OpenMode::read_only);
-    if (connection.query_int(db::sql("run/count_runs.sql")).value_or(0) == 0) {
+    if (!runs::holds_run(connection)) {
         throw DataError(file + ": holds no run (db digest hashes a run file; kb stats describes a knowledge base)");
     }
     std::cout << db::run_digest(connection) << '\n';

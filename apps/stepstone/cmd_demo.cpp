@@ -36,7 +36,7 @@ void run_demo(const DemoFlags& flags) {
     fs::create_directories(dir);
     const fs::path camp = dir / "campaign";
 
-    // 1. the paper's protocol in small: source run, its KB, the five treatments on the target task
+    // 1. the paper's protocol in small: source run, its KB, five treatments and a seeded one (target)
     const bool resume = fs::exists(camp / "campaign.db");
     std::cout << "== campaign (" << config.string() << ") -> " << camp.string()
               << (resume ? " (resumed: finished runs are kept)" : "") << std::endl;
@@ -72,12 +72,11 @@ void run_demo(const DemoFlags& flags) {
     // 4. the statistics of the target runs (the paper's Fig. 6, Fig. 7 and appendix)
     std::cout << "== statistics (stepstone stats " << camp.string() << ")\n";
     runs::write_text(std::cout, runs::campaign_stats(camp, std::nullopt, 0.5));
-    std::cout
-        << "   a demo is one small sample (a few seeds, a few dozen generations): it shows the machinery,\n"
-           "   not whether the KB helps. What the pre-registered experiments can and cannot say is in\n"
-           "   docs/results.md (sections 9 to 12): shaping on the target task at the paper's horizon (L), "
-           "and\n"
-           "   starting the target search from the source run's policies (E4, evolve --seed-from).\n";
+    std::cout << "   a demo is one small sample (3 seeds, 30 generations): it shows the machinery, and its\n"
+                 "   seed arm (started from a paper-size source run's 100 best policies,\n"
+                 "   examples/fixtures/demo_seeds.db) shows transfer by reuse. What the\n"
+                 "   pre-registered experiments found, on 20 to 40 runs an arm, is in docs/results.md\n"
+                 "   (sections 9 to 12).\n";
     std::cout << "   query the runs with SQL: sqlite3 " << (camp / "campaign.db").string()
               << " 'SELECT file, best_reward FROM campaign_run'" << std::endl;
 

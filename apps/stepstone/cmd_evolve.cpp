@@ -6,11 +6,11 @@
 
 #include "commands.hpp"
 #include "core/error.hpp"
-#include "core/mpi.hpp"
 #include "core/text.hpp"
 #include "evolve_flags.hpp"
 #include "exp/evolution.hpp"
 #include "exp/mpi_evolve.hpp"
+#include "exp/parallel/mpi.hpp"
 
 namespace stepstone::app {
 

@@ -122,7 +122,14 @@ case "$step" in
         ln -sf "$out/source-1/kb.db" "$repo/examples/experiments/source_kb.db"
         ln -sf "$out/source-1/seed-1.db" "$repo/examples/experiments/source_run.db"
         campaign e4 "$repo/examples/experiments/e4_reuse.json" ;;
-    e4csv) stats e4; /usr/bin/python3 "$here/e4_fisher.py" "$here/e4_runs.csv" > "$here/e4_fisher.csv" ;;
+    e4csv)
+        stats e4
+        for event in release ball; do  # the primary endpoint (ball) and its precursor, as text
+            echo
+            "$stepstone" stats "$out/e4" --available --generation 300 --event "$event" |
+                sed -n "/^time to first/,\$p"
+        done >> "$here/e4_stats.txt"
+        /usr/bin/python3 "$here/e4_fisher.py" "$here/e4_runs.csv" > "$here/e4_fisher.csv" ;;
     csv) stats e1; stats e2; stats e2c e2_part2; pool_e2 ;;
     *) echo "experiments.sh: unknown step '$step' (e1, e2, e2c, src1, l, lcsv, e4, e4csv or csv)" >&2; exit 2 ;;
 esac

@@ -3,7 +3,7 @@
 lookups in a C++ loop of the same process.
 
 The KB is grown as a source run grows one: the genomes of a source run
-(lib/bench/data/source_genomes.jsonl, the `bench shaped-*` cases' fixture) are
+(bench/data/source_genomes.jsonl, the `bench shaped-*` cases' fixture) are
 evaluated on the paper's source task and observed in order. The policies
 looked up are target-task evaluations of random genomes: 4000 steps, 200
 segments each. Prints the rate of KnowledgeBase.lookup() and r_max() called
@@ -23,7 +23,7 @@ import numpy as np
 import stepstone
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-DEFAULT_GENOMES = os.path.join(HERE, "..", "..", "lib", "bench", "data", "source_genomes.jsonl")
+DEFAULT_GENOMES = os.path.join(HERE, "..", "..", "bench", "data", "source_genomes.jsonl")
 
 
 def source_kb(genomes_path, delta, count):

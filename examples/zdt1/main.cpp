@@ -1,6 +1,7 @@
-// NSGA-II from lib/evo on ZDT1 (Zitzler, Deb, Thiele 2000) with a real-vector
-// genome, SBX crossover and polynomial mutation: the same generic algorithm
-// that evolves the DNN controllers, on a problem with a known front.
+// NSGA-II on ZDT1 (Zitzler, Deb, Thiele 2000) with a real-vector genome, SBX
+// crossover and polynomial mutation: lib/evo's selection steps, which also evolve
+// the DNN controllers, driven by this example's nsga2.hpp, on a problem with a
+// known front.
 //
 // usage: zdt1 [--generations G] [--seed S] [--min-hypervolume H]
 // prints the hypervolume of the final first front w.r.t. (1, 1); the true
@@ -15,8 +16,8 @@
 #include <vector>
 
 #include "core/rng.hpp"
-#include "evo/nsga2.hpp"
 #include "evo/pareto.hpp"
+#include "nsga2.hpp"
 
 namespace {
 
@@ -113,7 +114,7 @@ int main(int argc, char** argv) {
         }
     }
 
-    const stepstone::evo::Nsga2<Zdt1> ea(Zdt1{}, 100, seed);
+    const example::Nsga2<Zdt1> ea(Zdt1{}, 100, seed);
     auto population = ea.initialise();
     for (long g = 0; g < generations; ++g) ea.epoch(population);
 

@@ -4,7 +4,7 @@
 #include <exception>
 #include <thread>
 
-#include "core/writer_lock.hpp"
+#include "exp/parallel/writer_lock.hpp"
 #include "nn/network.hpp"
 #include "nn/network_lanes.hpp"
 #include "sim/episode.hpp"

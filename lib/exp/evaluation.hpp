@@ -33,7 +33,7 @@ Evaluation evaluate_genome(const sim::Task& task, const nn::Genome& genome, cons
                            std::span<float> behaviour = {});
 
 /// Thrown by evaluate_all when SIGINT or SIGTERM arrived under an
-/// InterruptGuard (core/writer_lock.hpp): the evaluations were abandoned.
+/// InterruptGuard (exp/parallel/writer_lock.hpp): the evaluations were abandoned.
 struct EvaluationInterrupted {
     /// Empty for a user's stop; otherwise what went wrong (a rank of an MPI
     /// job died), reported as an error.

@@ -5,10 +5,10 @@
 #include <optional>
 
 #include "core/text.hpp"
-#include "core/writer_lock.hpp"
 #include "db/database.hpp"
 #include "db/kb_store.hpp"
 #include "evo/pareto.hpp"
+#include "exp/parallel/writer_lock.hpp"
 #include "kb/segments.hpp"
 #include "runs/kb_files.hpp"
 #include "runs/replay.hpp"

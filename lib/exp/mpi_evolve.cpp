@@ -5,11 +5,11 @@
 #include <csignal>
 #include <thread>
 
-#include "core/bytes.hpp"
 #include "core/error.hpp"
 #include "core/math_fingerprint.hpp"
 #include "core/text.hpp"
-#include "core/writer_lock.hpp"
+#include "exp/parallel/bytes.hpp"
+#include "exp/parallel/writer_lock.hpp"
 
 namespace stepstone::exp {
 

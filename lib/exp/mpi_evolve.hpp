@@ -11,8 +11,8 @@
 #include <memory>
 #include <string>
 
-#include "core/mpi.hpp"
 #include "exp/evolution.hpp"
+#include "exp/parallel/mpi.hpp"
 
 namespace stepstone::exp {
 

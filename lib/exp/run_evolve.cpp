@@ -10,13 +10,13 @@
 #include "core/rng.hpp"
 #include "core/text.hpp"
 #include "core/version.hpp"
-#include "core/writer_lock.hpp"
 #include "db/database.hpp"
 #include "db/digest.hpp"
 #include "db/inspect.hpp"
 #include "db/kb_store.hpp"
 #include "exp/evolution.hpp"
 #include "exp/mpi_evolve.hpp"
+#include "exp/parallel/writer_lock.hpp"
 #include "exp/seeding.hpp"
 
 namespace stepstone::exp {

@@ -86,8 +86,4 @@ inline float sigmoid(float scaled_bias, float sum) {
     return sum;
 }
 
-/// The same sigmoid through std::exp in double, as nn2 computes it; used by
-/// the accuracy test and the pointer-based baseline.
-double sigmoid_exact(double scaled_bias, double sum);
-
 }  // namespace stepstone::nn

@@ -108,4 +108,14 @@ private:
 /// Developed value of a gene: gene * (hi - lo) + lo (sferes2 phen::Parameters).
 inline double develop(double gene, double lo, double hi) { return gene * (hi - lo) + lo; }
 
+/// Float weight of a connection gene, as every network rounds it.
+inline float developed_weight(double gene, const DnnConfig& config) {
+    return static_cast<float>(develop(gene, config.weight_min, config.weight_max));
+}
+
+/// Float bias_scale * developed bias, as every network rounds it.
+inline float developed_scaled_bias(double gene, const DnnConfig& config) {
+    return static_cast<float>(config.bias_scale * develop(gene, config.bias_min, config.bias_max));
+}
+
 }  // namespace stepstone::nn

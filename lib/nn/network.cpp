@@ -6,7 +6,6 @@
 #include "core/assert.hpp"
 #include "core/cpu.hpp"
 #include "nn/activation.hpp"
-#include "nn/reference_network.hpp"
 
 #if defined(__x86_64__) || defined(__i386__)
 #define STEPSTONE_NN_HAVE_AVX2_KERNEL 1

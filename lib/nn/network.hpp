@@ -33,7 +33,7 @@ bool cpu_has_avx2();
 ///
 /// Weights and scaled biases are rounded once to float from the developed
 /// double values. Both layouts give the same bits as each other and as
-/// ReferenceNetwork, on any run and thread. Inputs must be finite (the
+/// ReferenceNetwork (reference/reference_network.hpp), on any run and thread. Inputs must be finite (the
 /// simulator validates its sensors).
 ///
 /// A Network is a mutable evaluation state: use one per thread. Compiling is

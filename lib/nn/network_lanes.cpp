@@ -8,7 +8,6 @@
 #include "core/assert.hpp"
 #include "core/error.hpp"
 #include "nn/activation.hpp"
-#include "nn/reference_network.hpp"
 
 namespace stepstone::nn {
 

@@ -8,7 +8,6 @@
 #include <algorithm>
 
 #include "core/text.hpp"
-#include "db/database.hpp"
 #include "report/chart.hpp"
 #include "report/figures.hpp"
 #include "stats/summary.hpp"
@@ -48,25 +47,6 @@ std::vector<std::pair<std::string, Colour>> legend_of(std::span<const runs::Trea
 }
 
 }  // namespace
-
-double MilestoneCounts::share(std::size_t m) const {
-    return policies > 0 ? static_cast<double>(reached[m]) / static_cast<double>(policies) : 0.0;
-}
-
-std::vector<MilestoneCounts> load_milestone_counts(db::Connection& connection, std::int64_t run_id) {
-    auto rows = connection.prepare(db::sql("report/select_milestones.sql"));
-    rows.bind(":run_id", run_id);
-    std::vector<MilestoneCounts> out;
-    while (rows.step()) {
-        MilestoneCounts c;
-        c.generation = static_cast<int>(rows.column_int(0));
-        c.policies = rows.column_int(1);
-        for (std::size_t m = 0; m < runs::kMilestones; ++m)
-            c.reached[m] = rows.column_int(static_cast<int>(m) + 2);
-        out.push_back(c);
-    }
-    return out;
-}
 
 namespace {
 

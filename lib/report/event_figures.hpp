@@ -6,26 +6,15 @@
 #include <string>
 #include <vector>
 
-#include "db/connection.hpp"
 #include "report/canvas.hpp"
 #include "runs/campaign_events.hpp"
+#include "runs/run_series.hpp"
 #include "runs/treatment.hpp"
 
 namespace stepstone::report {
 
-/// The policies of one generation of a run that reached each milestone.
-struct MilestoneCounts {
-    int generation = 0;
-    std::int64_t policies = 0;
-    std::array<std::int64_t, runs::kMilestones> reached{};  ///< in runs::all_milestones() order
-
-    /// reached[m] / policies (0 without policies).
-    double share(std::size_t m) const;
-};
-
-/// The milestone counts of every generation of run `run_id` (schema 0005
-/// files; check db::has_milestones first).
-std::vector<MilestoneCounts> load_milestone_counts(db::Connection& connection, std::int64_t run_id);
+/// The milestones of one generation of a run (runs::load_milestone_counts).
+using runs::MilestoneCounts;
 
 /// Size of the two-by-two milestone figures.
 inline constexpr int kPanelFigureWidth = 1000;

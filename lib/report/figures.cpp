@@ -6,27 +6,10 @@
 #include <map>
 
 #include "core/text.hpp"
-#include "db/database.hpp"
 #include "report/chart.hpp"
 #include "stats/summary.hpp"
 
 namespace stepstone::report {
-
-std::vector<GenerationPoint> load_generations(db::Connection& connection, std::int64_t run_id) {
-    auto rows = connection.prepare(db::sql("report/select_generations.sql"));
-    rows.bind(":run_id", run_id);
-    std::vector<GenerationPoint> out;
-    while (rows.step()) {
-        GenerationPoint p;
-        p.generation = static_cast<int>(rows.column_int(0));
-        p.best = rows.column_double(1);
-        p.median = rows.column_double(2);
-        if (!rows.is_null(4)) p.mean_shaping = rows.column_double(4);
-        if (!rows.is_null(5)) p.max_shaping = rows.column_double(5);
-        out.push_back(p);
-    }
-    return out;
-}
 
 namespace {
 

@@ -5,25 +5,16 @@
 #include <string>
 #include <vector>
 
-#include "db/connection.hpp"
 #include "kb/knowledge_base.hpp"
 #include "report/canvas.hpp"
 #include "runs/campaign_stats.hpp"
+#include "runs/run_series.hpp"
 #include "runs/treatment.hpp"
 
 namespace stepstone::report {
 
-/// One generation of a run, as its figures read it.
-struct GenerationPoint {
-    int generation = 0;
-    double best = 0.0;    ///< best task reward among the survivors
-    double median = 0.0;  ///< median task reward among the survivors
-    std::optional<double> mean_shaping;  ///< mean r_max of the policies evaluated then
-    std::optional<double> max_shaping;   ///< largest r_max of the policies evaluated then
-};
-
-/// The generation table of run `run_id`, in generation order.
-std::vector<GenerationPoint> load_generations(db::Connection& connection, std::int64_t run_id);
+/// One generation of a run, as its figures read it (runs::load_generations).
+using runs::GenerationPoint;
 
 /// The colour of a treatment in every campaign figure.
 Colour treatment_colour(runs::Treatment treatment);

@@ -124,7 +124,7 @@ std::string digest_or_reason(db::Connection& connection) {
 void run_report(const ReportOptions& options, const fs::path& dir, ReportSummary& summary) {
     auto connection = db::open_database(options.input, db::OpenMode::read_only);
     const auto run = runs::load_run(connection);
-    const auto generations = load_generations(connection, run.id);
+    const auto generations = runs::load_generations(connection, run.id);
     if (generations.empty()) {
         throw DataError(concat(options.input.string(), ": the run has no generation yet, nothing to report"));
     }
@@ -153,7 +153,7 @@ void run_report(const ReportOptions& options, const fs::path& dir, ReportSummary
                     [&](Canvas& c) { draw_run_shaping(c, generations, concat("Shaping signal per generation: ", file)); });
     }
     if (db::has_milestones(connection)) {
-        const auto counts = load_milestone_counts(connection, run.id);
+        const auto counts = runs::load_milestone_counts(connection, run.id);
         page.figure(
             "milestones", kFigureWidth, kFigureHeight,
             "How far the policies get through the task: the share of each generation's evaluated policies "

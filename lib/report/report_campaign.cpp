@@ -25,23 +25,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct KbRow {
-    std::string name, file, made_from, digest;
-    std::int64_t segments = 0;
-};
-
-std::vector<KbRow> load_kbs(db::Connection& connection) {
-    auto rows = connection.prepare(db::sql("report/select_campaign_kbs.sql"));
-    std::vector<KbRow> out;
-    const int name = rows.column("name"), file = rows.column("file"), made_from = rows.column("made_from"),
-              digest = rows.column("digest"), segments = rows.column("segments");
-    while (rows.step()) {
-        out.push_back({rows.column_text(name), rows.column_text(file), rows.column_text(made_from),
-                       rows.column_text(digest), rows.column_int(segments)});
-    }
-    return out;
-}
-
 // the statistics at the asked generation, or at the last one every target
 // run has reached when some are unfinished (said in `notes`)
 std::optional<runs::CampaignStats> load_stats(const ReportOptions& options,
@@ -169,7 +152,7 @@ void add_statistics(Page& page, const runs::CampaignStats& stats, const std::vec
     // the shaping signal, from every target run's individual table
     std::vector<runs::Treatment> treatments;
     for (const auto& t : stats.treatments) treatments.push_back(t.treatment);
-    const auto series = per_treatment(runs, dir, treatments, load_generations);
+    const auto series = per_treatment(runs, dir, treatments, runs::load_generations);
     page.figure("treatment-medians", kFigureWidth, kFigureHeight,
                 "The median task reward of each generation's survivors: per treatment the median over seeds (line) "
                 "and the quartiles (band).",
@@ -248,7 +231,7 @@ void add_events(Page& page, const runs::CampaignStats& stats, const std::vector<
     }
     page.table({"milestone", "treatment", "runs that reached it", "Kaplan-Meier median generation"}, medians);
 
-    const auto series = per_treatment(runs, dir, events.treatments, load_milestone_counts);
+    const auto series = per_treatment(runs, dir, events.treatments, runs::load_milestone_counts);
     page.figure(
         "milestone-shares", kPanelFigureWidth, kPanelFigureHeight,
         "The share of each generation's policies that reached each milestone: per treatment the median over "
@@ -273,7 +256,7 @@ void campaign_report(const ReportOptions& options, const fs::path& dir, ReportSu
     auto connection = db::open_database(campaign_dir / "campaign.db", db::OpenMode::read_only);
     const auto index = runs::load_campaign(connection);
     const auto& runs = index.runs;
-    const auto kbs = load_kbs(connection);
+    const auto kbs = runs::load_campaign_kbs(connection);
     Progress progress("report", 4, options.progress);
     Page page(dir, concat("stepstone report: campaign ", campaign_dir.lexically_normal().string()));
 

@@ -58,6 +58,22 @@ CampaignIndex load_campaign(db::Connection& connection) {
     return index;
 }
 
+void recover_campaign_db(const fs::path& path) {
+    db::open_database(path, db::OpenMode::read_write).query_int(db::sql("campaign/count.sql"));
+}
+
+std::vector<CampaignKb> load_campaign_kbs(db::Connection& connection) {
+    auto rows = connection.prepare(db::sql("campaign/select_kbs.sql"));
+    std::vector<CampaignKb> out;
+    const int name = rows.column("name"), file = rows.column("file"), made_from = rows.column("made_from"),
+              digest = rows.column("digest"), segments = rows.column("segments");
+    while (rows.step()) {
+        out.push_back({rows.column_text(name), rows.column_text(file), rows.column_text(made_from),
+                       rows.column_text(digest), rows.column_int(segments)});
+    }
+    return out;
+}
+
 void create_campaign_db(const fs::path& path, const CampaignConfig& config,
                         const std::vector<PlannedRun>& plan) {
     db::OutputDatabase output(path, false);
@@ -88,9 +104,7 @@ std::optional<RunFileState> read_run_file(const fs::path& path) {
     RunFileState state;
     state.generations_done = run.generations_done;
     state.finished = run.status == RunStatus::finished;
-    auto best = connection.prepare(db::sql("run/max_best_reward.sql"));
-    if (best.step() && best.column_type(0) != db::Statement::Type::null)
-        state.best_reward = best.column_double(0);
+    state.best_reward = best_reward(connection).value_or(0.0);
     return state;
 }
 

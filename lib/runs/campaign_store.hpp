@@ -46,6 +46,21 @@ CampaignIndex load_campaign(const std::filesystem::path& dir);
 /// Reads an open campaign.db.
 CampaignIndex load_campaign(db::Connection& connection);
 
+/// Opens campaign.db at `path` for writing once: a campaign killed in the middle of a write
+/// leaves a hot journal that only a writer can roll back, before read-only loads.
+void recover_campaign_db(const std::filesystem::path& path);
+
+/// A knowledge base a campaign made ('kb' and 'kb-rand'), as campaign.db records it.
+struct CampaignKb {
+    std::string name;
+    std::string file;  ///< relative to the campaign directory
+    std::string made_from;
+    std::string digest;  ///< its content digest
+    std::int64_t segments = 0;
+};
+/// The KBs an open campaign.db records, by name.
+std::vector<CampaignKb> load_campaign_kbs(db::Connection& connection);
+
 /// Writes a new campaign.db at `path` (moved into place whole): the config
 /// and one pending row per planned run, ids 1.. in plan order.
 void create_campaign_db(const std::filesystem::path& path, const CampaignConfig& config,

@@ -57,6 +57,31 @@ RunRecord load_run(db::Connection& connection) {
     return run;
 }
 
+bool holds_run(db::Connection& connection) {
+    return connection.query_int(db::sql("run/count_runs.sql")).value_or(0) > 0;
+}
+
+std::optional<double> best_reward(db::Connection& connection) {
+    auto best = connection.prepare(db::sql("run/max_best_reward.sql"));  // max() is NULL without a generation
+    if (best.step() && !best.is_null(0)) return best.column_double(0);
+    return std::nullopt;
+}
+
+RunFileCost run_file_cost(db::Connection& connection) {
+    RunFileCost cost;
+    auto row = connection.prepare(db::sql("run/probe_generation_cost.sql"));
+    row.step();
+    cost.other_s = row.column_double(row.column("other_s"));
+    cost.evaluations = row.column_double(row.column("evaluations"));
+    auto bytes = connection.prepare(db::sql("run/probe_file_bytes.sql"));
+    bytes.step();
+    cost.individual_bytes = bytes.column_double(bytes.column("individual_bytes"));
+    cost.generation_bytes = bytes.column_double(bytes.column("generation_bytes"));
+    cost.kb_bytes = bytes.column_double(bytes.column("kb_bytes"));
+    cost.total_bytes = bytes.column_double(bytes.column("total_bytes"));
+    return cost;
+}
+
 void write_generation(db::Connection& connection, RunRecord& run, const GenerationWrite& write) {
     db::Transaction transaction(connection);
 

@@ -88,6 +88,25 @@ std::int64_t insert_run(db::Connection& connection, const RunRecord& run, const 
 /// The run of a run file; throws DatabaseError if the file has none or more than one.
 RunRecord load_run(db::Connection& connection);
 
+/// Whether the file holds a run (a KB file holds none).
+bool holds_run(db::Connection& connection);
+
+/// The best task reward of any generation of the file's run; nullopt before its first generation.
+std::optional<double> best_reward(db::Connection& connection);
+
+/// What a run's file says of its cost (campaign --dry-run's probe): the mean seconds of a
+/// generation after generation 0 beside simulation and KB lookups, the evaluations, and
+/// the file's bytes by part (the pages of each table and its indexes).
+struct RunFileCost {
+    double other_s = 0;
+    double evaluations = 0;
+    double individual_bytes = 0;  ///< the rows of every evaluation
+    double generation_bytes = 0;  ///< genomes and generation rows
+    double kb_bytes = 0;          ///< the KB's segments and provenance
+    double total_bytes = 0;       ///< the whole file
+};
+RunFileCost run_file_cost(db::Connection& connection);
+
 /// Writes a generation and updates the run's counters, in one transaction:
 /// a crash loses at most the generation in progress.
 void write_generation(db::Connection& connection, RunRecord& run, const GenerationWrite& write);

@@ -13,9 +13,9 @@
 #include "db/database.hpp"
 #include "db/kb_store.hpp"
 #include "kb/segments.hpp"
-#include "report/figures.hpp"
 #include "runs/campaign_store.hpp"
 #include "runs/kb_stats.hpp"
+#include "runs/run_series.hpp"
 #include "runs/run_store.hpp"
 #include "service/body.hpp"
 
@@ -113,8 +113,8 @@ std::vector<KbService::WantedKb> KbService::wanted_kbs() const {
     std::vector<WantedKb> wanted;
     if (campaign_) {
         auto connection = db::open_database(input_ / "campaign.db", db::OpenMode::read_only);
-        auto rows = connection.prepare(db::sql("report/select_campaign_kbs.sql"));
-        while (rows.step()) wanted.push_back({rows.column_text(0), input_ / rows.column_text(1), ""});
+        for (const auto& k : runs::load_campaign_kbs(connection))
+            wanted.push_back({k.name, input_ / k.file, ""});
     } else {
         auto connection = db::open_database(input_, db::OpenMode::read_only);
         for (const auto& summary : db::list_kbs(connection))
@@ -381,12 +381,10 @@ std::vector<KbService::RunFile> KbService::run_files() const {
     }
     if (!campaign_) {
         auto connection = db::open_database(input_, db::OpenMode::read_only);
-        if (connection.query_int(db::sql("run/count_runs.sql")).value_or(0) > 0) out.push_back({1, input_});
+        if (runs::holds_run(connection)) out.push_back({1, input_});
         return out;
     }
-    auto connection = db::open_database(input_ / "campaign.db", db::OpenMode::read_only);
-    auto rows = connection.prepare(db::sql("service/campaign_run_files.sql"));
-    while (rows.step()) out.push_back({rows.column_int(0), input_ / rows.column_text(1)});
+    for (const auto& r : runs::load_campaign(input_).runs) out.push_back({r.id, input_ / r.run.file});
     return out;
 }
 
@@ -409,9 +407,7 @@ json KbService::runs() const {
     for (const auto& file : run_files()) {
         auto connection = db::open_database(file.path, db::OpenMode::read_only);
         const auto run = runs::load_run(connection);
-        // max() is NULL for a run with no generation yet
-        auto best = connection.prepare(db::sql("run/max_best_reward.sql"));
-        const bool has_best = best.step() && !best.is_null(0);
+        const auto best = runs::best_reward(connection);
         out.push_back({{"id", file.id},
                        {"step", run.task},
                        {"treatment", run.treatment},
@@ -420,7 +416,7 @@ json KbService::runs() const {
                        {"generations", run.generations},
                        {"status", runs::to_string(run.status)},
                        {"generations_done", run.generations_done},
-                       {"best_reward", has_best ? json(best.column_double(0)) : json()}});
+                       {"best_reward", best ? json(*best) : json()}});
     }
     return out;
 }
@@ -437,7 +433,7 @@ json KbService::generations(std::int64_t id) const {
             return out;  // not started yet
         }
         auto connection = db::open_database(file.path, db::OpenMode::read_only);
-        for (const auto& g : report::load_generations(connection, runs::load_run(connection).id)) {
+        for (const auto& g : runs::load_generations(connection, runs::load_run(connection).id)) {
             out.push_back({{"generation", g.generation},
                            {"best_reward", g.best},
                            {"median_reward", g.median},

@@ -32,7 +32,7 @@ struct Contact {
 /// This is the hot-path geometry: the walls are kept in padded arrays (12 slots,
 /// the door's slot replaced by an unreachable box when it is open) so every
 /// query is a fixed-length loop of slab or clamp tests. ReferenceWorld
-/// (sim/world.hpp) answers the same queries with Box2D.
+/// (reference/box2d_world.hpp) answers the same queries with Box2D.
 class Arena {
 public:
     /// Number of slots in the padded arrays.

@@ -7,8 +7,8 @@
 #include <cmath>
 #include <vector>
 
-#include "bench/fastsim_baseline.hpp"
 #include "core/rng.hpp"
+#include "reference/fastsim_baseline.hpp"
 #include "sim/sensors.hpp"
 #include "sim/task.hpp"
 
@@ -16,13 +16,13 @@ using namespace stepstone;
 
 TEST_CASE("the bitmap baseline agrees with lib/sim on collisions, lights and lasers at random poses",
           "[bench][fastsim][sim]") {
-    const bench::BitmapArena arena;
+    const reference::BitmapArena arena;
     const auto task = sim::make_task(sim::TaskConfig{});
-    std::vector<bench::Light> lights;
+    std::vector<reference::Light> lights;
     for (const auto& l : task->lights()) {
-        const auto color = l.kind == sim::LightKind::ball     ? bench::LightColor::ball
-                           : l.kind == sim::LightKind::basket ? bench::LightColor::basket
-                                                              : bench::LightColor::button;
+        const auto color = l.kind == sim::LightKind::ball     ? reference::LightColor::ball
+                           : l.kind == sim::LightKind::basket ? reference::LightColor::basket
+                                                              : reference::LightColor::button;
         lights.push_back({static_cast<float>(l.x), static_cast<float>(l.y), color, true});
     }
     const sim::WorldState state{false, task->initial_lit()};
@@ -40,7 +40,7 @@ TEST_CASE("the bitmap baseline agrees with lib/sim on collisions, lights and las
         const auto y = static_cast<float>(rng.uniform(0, 400));
         const auto heading = static_cast<float>(rng.uniform(-3.14159, 3.14159));
         const sim::Pose pose{x, y, heading};
-        bench::BitmapRobot robot({x, y, heading});
+        reference::BitmapRobot robot({x, y, heading});
         robot.move(0, 0, arena.closed, lights);
         const bool candidate_hit = task->arena().contact(pose, false).hit;
         if (robot.collision() != candidate_hit) ++collision_disagreements;

@@ -1,7 +1,10 @@
 #include <catch2/catch.hpp>
 #include <cstdlib>
+#include <sstream>
+#include <string>
+#include <vector>
 
-#include "core/mpi.hpp"
+#include "exp/parallel/mpi.hpp"
 #include "support/run_cli.hpp"
 
 using namespace stepstone;
@@ -35,7 +38,64 @@ TEST_CASE("bench --csv prints the header the docs promise", "[bench][cli]") {
     ::setenv("OMPI_MCA_rmaps_base_oversubscribe", "1", 1);
     auto result = test::run_cli({"bench", "--quick", "--csv"});
     CHECK(result.exit_code == 0);
-    CHECK_THAT(result.out, StartsWith("case,baseline_per_s,candidate_per_s,ratio\n"));
+    CHECK_THAT(result.out,
+               StartsWith("case,baseline_per_s,candidate_per_s,ratio,ratio_min,ratio_max,rounds\n"));
+    // serve is one case with a parameter: a row a client count, and no other serve rows
+    CHECK_THAT(result.out, Contains("\nserve/1,") && Contains("\nserve/2,") && Contains("\nserve/8,"));
+    CHECK_THAT(result.out, !Contains("\nserve,") && !Contains("serve-"));
+    // every row that ran: its ratio within its rounds' least and greatest, over 3 rounds (--quick)
+    std::istringstream lines(result.out);
+    std::string line;
+    std::getline(lines, line);
+    int rows = 0;
+    while (std::getline(lines, line)) {
+        if (line.ends_with(",,,,,,")) continue;  // a case that cannot run here (mpi without mpirun)
+        std::vector<std::string> fields;
+        std::istringstream cells(line);
+        for (std::string cell; std::getline(cells, cell, ',');) fields.push_back(cell);
+        INFO(line);
+        REQUIRE(fields.size() == 7);
+        const double ratio = std::stod(fields[3]);
+        CHECK(std::stod(fields[4]) <= ratio);
+        CHECK(ratio <= std::stod(fields[5]));
+        CHECK(fields[6] == "3");
+        ++rows;
+    }
+    CHECK(rows >= 10);
+}
+
+TEST_CASE("bench selects a case with a parameter whole or by one row, and targets it the same way",
+          "[bench][cli]") {
+    auto list = test::run_cli({"bench", "--list"});
+    REQUIRE(list.exit_code == 0);
+    CHECK_THAT(list.out, Contains("\nserve/1 ") && Contains("\nserve/2 ") && Contains("\nserve/8 "));
+    CHECK_THAT(list.out, Contains("by 8 concurrent clients"));
+
+    // one row, judged against a target given to the whole case: 10^9x is out of reach
+    auto result = test::run_cli({"bench", "serve/2", "--quick", "--csv", "--target", "serve=1e9"});
+    INFO(result.out << result.err);
+    CHECK(result.exit_code == 1);
+    CHECK_THAT(result.out, Contains("\nserve/2,") && !Contains("serve/1") && !Contains("serve/8"));
+    REQUIRE(result.err_lines().size() == 1);
+    CHECK_THAT(result.err_lines()[0],
+               Contains("1 case fell short of its target: serve/2 ") && Contains("< 1e+09x"));
+
+    // a row's own target after the case's: the row's wins for that row
+    result =
+        test::run_cli({"bench", "serve", "--quick", "--target", "serve=1e9", "--target", "serve/8=0.001"});
+    INFO(result.out << result.err);
+    CHECK(result.exit_code == 1);
+    REQUIRE(result.err_lines().size() == 1);
+    CHECK_THAT(result.err_lines()[0], Contains("2 cases fell short of their targets: serve/1 ") &&
+                                          Contains("serve/2 ") && !Contains("serve/8"));
+
+    for (const char* bad : {"serve/3", "serve/", "sim/1"}) {
+        result = test::run_cli({"bench", bad, "--quick"});
+        INFO(bad);
+        CHECK(result.exit_code == 2);
+        REQUIRE(result.err_lines().size() == 1);
+        CHECK_THAT(result.err_lines()[0], StartsWith("stepstone: error: unknown bench case"));
+    }
 }
 
 TEST_CASE("a case that cannot run prints its row with the reason and the others still run", "[bench][cli]") {
@@ -74,7 +134,8 @@ TEST_CASE("bench exits 1 after the whole table when a case falls short of its ta
     INFO(result.out << result.err);
     CHECK(result.exit_code == 0);
     CHECK(result.err.empty());
-    CHECK_THAT(result.out, StartsWith("case,baseline_per_s,candidate_per_s,ratio\nnn,"));
+    CHECK_THAT(result.out,
+               StartsWith("case,baseline_per_s,candidate_per_s,ratio,ratio_min,ratio_max,rounds\nnn,"));
 }
 
 TEST_CASE("a --target that is not CASE=RATIO of a case of this build is refused before anything runs",

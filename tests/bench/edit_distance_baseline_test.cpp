@@ -1,10 +1,9 @@
-#include <catch2/catch.hpp>
+#include "reference/edit_distance_baseline.hpp"
 
+#include <catch2/catch.hpp>
 #include <vector>
 
-#include "bench/edit_distance_baseline.hpp"
-
-using namespace stepstone::bench;
+using namespace stepstone::reference;
 
 TEST_CASE("the baseline edit distance follows the original's costs", "[bench][diversity]") {
     using Cells = std::vector<GridCell>;

@@ -1,12 +1,11 @@
-#include <catch2/catch.hpp>
+#include "reference/fastsim_baseline.hpp"
 
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <numbers>
 #include <vector>
 
-#include "bench/fastsim_baseline.hpp"
-
-using namespace stepstone::bench;
+using namespace stepstone::reference;
 
 namespace {
 

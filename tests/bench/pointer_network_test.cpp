@@ -1,12 +1,11 @@
-#include <catch2/catch.hpp>
+#include "reference/pointer_network.hpp"
 
+#include <catch2/catch.hpp>
 #include <set>
 #include <stdexcept>
 #include <utility>
 
-#include "bench/pointer_network.hpp"
-
-using namespace stepstone::bench;
+using namespace stepstone::reference;
 
 TEST_CASE("the pointer network equals a hand-computed tiny recurrent network", "[bench][nn]") {
     // neurons: 0 input, 1 output, 2 hidden with a self-loop

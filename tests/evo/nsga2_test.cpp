@@ -1,13 +1,14 @@
-#include <catch2/catch.hpp>
+#include "nsga2.hpp"  // examples/zdt1
 
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <vector>
 
 #include "core/error.hpp"
-#include "evo/nsga2.hpp"
 
 using namespace stepstone;
 using namespace stepstone::evo;
+using namespace example;
 
 namespace {
 

@@ -384,4 +384,51 @@ TEST_CASE("a seeded run can be shaped too: seed-sum, bit for bit across threads"
     CHECK(connection.query_int("SELECT count(*) FROM individual WHERE fitness <= reward").value_or(-1) == 0);
 }
 
+TEST_CASE("scripts/demo-seeds cuts a run to the K policies `with: best` takes, a seed source seeding alike",
+          "[exp][seed][cli][script]") {
+    test::TempDir dir;
+    test::write_file(dir / "t.json", kTarget);
+    REQUIRE(make_source(dir, "source.db").exit_code == 0);
+    const auto source = dir / "source.db";
+    // rewards with ties, so that the cut has both orders to follow: reward, then the lower id
+    run_sql(source, "UPDATE individual SET reward = (id % 3) / 24.0");
+    const std::string script = std::string(STEPSTONE_SOURCE_DIR) + "/scripts/demo-seeds";
+    const auto cut = dir / "cut.db";
+    const auto made = test::run_program({script, source.string(), cut.string(), "3"});
+    INFO(made.err);
+    REQUIRE(made.exit_code == 0);
+
+    // the cut holds exactly the 3 stored genomes the hand-sorted rows give, and no checkpoint
+    const auto expected = expected_seeds(source, "best", 3);
+    REQUIRE(expected.size() == 3);
+    CHECK(expected_seeds(cut, "best", 100) == expected);
+    auto connection = db::open_database(cut, db::OpenMode::read_only);
+    CHECK(connection.query_int("SELECT count(*) FROM individual").value_or(-1) == 3);
+    CHECK(connection.query_int("SELECT count(*) FROM checkpoint").value_or(-1) == 0);
+    CHECK(connection.query_int("SELECT count(*) FROM generation").value_or(-1) == 1);
+
+    // seeding from the cut and from the whole run gives one generation 0
+    const std::vector<std::string> args{"--retain",    "all",  "--generations", "0",
+                                        "--seed-with", "best", "--seed-count",  "3"};
+    auto with_source = [&](const fs::path& from) {
+        auto all = args;
+        all.insert(all.end(), {"--seed-from", from.string()});
+        return all;
+    };
+    REQUIRE(evolve(dir, "from-run.db", with_source(source)).exit_code == 0);
+    REQUIRE(evolve(dir, "from-cut.db", with_source(cut)).exit_code == 0);
+    CHECK(generation0_genomes(dir / "from-cut.db") == generation0_genomes(dir / "from-run.db"));
+
+    // an existing output is never overwritten; a bad K names itself
+    const auto bytes = test::read_file(cut);
+    const auto again = test::run_program({script, source.string(), cut.string(), "3"});
+    CHECK(again.exit_code != 0);
+    CHECK_THAT(again.err, Contains(cut.string() + ": exists"));
+    CHECK(test::read_file(cut) == bytes);
+    const auto bad = test::run_program({script, source.string(), (dir / "k.db").string(), "zero"});
+    CHECK(bad.exit_code != 0);
+    CHECK_THAT(bad.err, Contains("K must be a whole number"));
+    CHECK_FALSE(fs::exists(dir / "k.db"));
+}
+
 }  // namespace seedingtest

@@ -4,7 +4,9 @@
 # examples/zdt1 built by CMake with find_package(stepstone) and by hand with
 # pkg-config, both run to the known ZDT1 front (hypervolume 2/3 w.r.t. (1, 1));
 # the installed binary's --version names the source tree's commit, and a run
-# it writes stores that commit.
+# it writes stores that commit; the library's link interface (exported CMake
+# targets, pkg-config file) names none of the dependencies of bench/ and
+# reference/ (FLANN, liblz4, an HTTP client, Box2D).
 set -euo pipefail
 build=$1 source=$2 work=$3
 fail() { echo "installed_package: $*" >&2; exit 1; }
@@ -14,14 +16,23 @@ prefix=$work/prefix
 cmake --install "$build" --prefix "$prefix" > "$work/install.log"
 
 # (the library folder is lib/ or lib/<multiarch>/, as GNUInstallDirs chooses for the prefix)
-for file in bin/stepstone include/stepstone/evo/nsga2.hpp include/stepstone/core/version.hpp \
+for file in bin/stepstone include/stepstone/evo/pareto.hpp include/stepstone/core/version.hpp \
         share/stepstone/schema/0001_init.sql share/stepstone/queries/kb_growth.sql; do
     [[ -e $prefix/$file ]] || fail "not installed: $file"
 done
 for file in libstepstone_core.a libstepstone_service.a stepstoneConfig.cmake stepstone.pc; do
     [[ -n $(find "$prefix/lib" -name "$file") ]] || fail "not installed: $file"
 done
-[[ ! -e $prefix/include/stepstone/bench ]] || fail "the bench headers are internal but were installed"
+for folder in bench reference; do
+    [[ ! -e $prefix/include/stepstone/$folder ]] || fail "the $folder headers are not the library's but were installed"
+done
+
+# what a consumer of the library links: the lines (comments aside) of the exported targets,
+# the package's config file and the pkg-config file (its Requires and Libs)
+interface=$(find "$prefix/lib" \( -name 'stepstone*.cmake' -o -name stepstone.pc \) -exec grep -hv '^\s*#' {} +)
+forbidden='flann|lz4|httplib|curl|box2d|stepstone::bench|stepstone_bench|stepstone::reference|stepstone_reference'
+hits=$(grep -ioE "$forbidden" <<< "$interface" | sort -u | tr '\n' ' ' || true)
+[[ -z $hits ]] || fail "the installed library's link interface names what only bench/ or reference/ needs: $hits"
 
 # the Python module, where Debian's python3 looks under this prefix (when the build made it)
 if [[ -n $(find "$build/python" -maxdepth 1 -name 'stepstone*.so' 2>/dev/null) ]]; then

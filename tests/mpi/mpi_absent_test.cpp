@@ -2,7 +2,7 @@
 #include <catch2/catch.hpp>
 
 #include "core/error.hpp"
-#include "core/mpi.hpp"
+#include "exp/parallel/mpi.hpp"
 
 using namespace stepstone;
 using Catch::Matchers::Contains;

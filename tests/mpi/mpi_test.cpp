@@ -345,7 +345,8 @@ TEST_CASE("bench mpi times evolve --mpi on 2 ranks against 2 threads in one proc
     const auto result = test::run_cli({"bench", "mpi", "--quick", "--csv"});
     INFO(result.err);
     REQUIRE(result.exit_code == 0);
-    CHECK_THAT(result.out, StartsWith("case,baseline_per_s,candidate_per_s,ratio\nmpi,"));
+    CHECK_THAT(result.out,
+               StartsWith("case,baseline_per_s,candidate_per_s,ratio,ratio_min,ratio_max,rounds\nmpi,"));
     const auto list = test::run_cli({"bench", "--list"});
     CHECK_THAT(list.out, Contains("2 MPI ranks (pml ob1) vs 1 process on 2 threads"));
 }

@@ -10,11 +10,12 @@
 
 #include "core/error.hpp"
 #include "nn/activation.hpp"
-#include "nn/reference_network.hpp"
+#include "reference/reference_network.hpp"
 #include "support.hpp"
 
 using namespace stepstone;
 using namespace stepstone::nn;
+using stepstone::reference::ReferenceNetwork;
 
 namespace {
 

@@ -1,17 +1,18 @@
-#include <catch2/catch.hpp>
+#include "nn/network.hpp"
 
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <thread>
 #include <vector>
 
 #include "nn/activation.hpp"
-#include "nn/network.hpp"
-#include "nn/reference_network.hpp"
+#include "reference/reference_network.hpp"
 #include "support.hpp"
 
 using namespace stepstone;
 using namespace stepstone::nn;
+using stepstone::reference::ReferenceNetwork;
 
 namespace {
 

@@ -77,7 +77,7 @@ TEST_CASE("every figure renders as PNG and SVG from a small run", "[report]") {
     reporttest::make_run(dir / "run.db");
     auto connection = db::open_database(dir / "run.db", db::OpenMode::read_only);
     const auto run = runs::load_run(connection);
-    const auto generations = load_generations(connection, run.id);
+    const auto generations = runs::load_generations(connection, run.id);
     REQUIRE(generations.size() == 5);  // generations 0 to 4
     const auto stored = figure_kb(dir / "run.db", "");
     REQUIRE(stored.has_value());

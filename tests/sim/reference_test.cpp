@@ -1,13 +1,13 @@
 #include <catch2/catch.hpp>
-
 #include <cmath>
 
 #include "core/rng.hpp"
+#include "reference/box2d_world.hpp"
 #include "sim/task.hpp"
 #include "sim/units.hpp"
-#include "sim/world.hpp"
 
 using namespace stepstone::sim;
+using stepstone::reference::ReferenceWorld;
 
 namespace {
 

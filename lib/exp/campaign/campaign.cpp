@@ -4,10 +4,10 @@
 
 #include "core/error.hpp"
 #include "core/text.hpp"
-#include "core/writer_lock.hpp"
 #include "db/database.hpp"
 #include "exp/campaign/campaign_mpi.hpp"
 #include "exp/campaign/campaign_runner.hpp"
+#include "exp/parallel/writer_lock.hpp"
 
 namespace stepstone::exp {
 
@@ -52,9 +52,7 @@ runs::CampaignIndex open_campaign(const CampaignOptions& options, runs::Campaign
         create_campaign_db(campaign_path, config, plan_runs(config));
         return runs::load_campaign(options.dir);
     }
-    // a campaign killed in the middle of a write leaves a hot journal that only a writer can
-    // roll back: open it for writing once before the read-only loads
-    db::open_database(campaign_path, db::OpenMode::read_write).query_int(db::sql("campaign/count.sql"));
+    runs::recover_campaign_db(campaign_path);
     auto index = runs::load_campaign(options.dir);
     // campaigns made before kb.file was stored as given hold its absolute path: the same file
     auto stored = index.config;

@@ -17,6 +17,7 @@
 #include "exp/evolution.hpp"
 #include "nn/genome.hpp"
 #include "runs/campaign_store.hpp"
+#include "runs/run_store.hpp"
 #include "runs/treatment.hpp"
 
 namespace stepstone::exp {
@@ -125,22 +126,16 @@ void probe_generations(const runs::EvolveConfig& config, const fs::path& folder,
     options.stop_on_signals = false;
     run_evolve(options);
     auto connection = db::open_database(options.db_path, db::OpenMode::read_only);
-    auto row = connection.prepare(db::sql("run/probe_generation_cost.sql"));
-    row.step();
-    cost.other_s = std::max(0.0, row.column_double(row.column("other_s")));
-    const double evaluations = std::max(1.0, row.column_double(row.column("evaluations")));
+    const auto file = runs::run_file_cost(connection);
+    cost.other_s = std::max(0.0, file.other_s);
+    const double evaluations = std::max(1.0, file.evaluations);
     // the file by part: rows per evaluation, genomes per generation, the KB per observation
     // (the probe observes once, at generation 0, when the config has a KB), the rest once
-    auto bytes = connection.prepare(db::sql("run/probe_file_bytes.sql"));
-    bytes.step();
-    const double individual = bytes.column_double(bytes.column("individual_bytes"));
-    const double generation = bytes.column_double(bytes.column("generation_bytes"));
-    const double kb = config.kb ? bytes.column_double(bytes.column("kb_bytes")) : 0.0;  // else empty tables
-    const double total = bytes.column_double(bytes.column("total_bytes"));
-    cost.bytes_per_evaluation = individual / evaluations;
-    cost.bytes_per_generation = generation / (kProbeGenerations + 1);
+    const double kb = config.kb ? file.kb_bytes : 0.0;  // else empty tables
+    cost.bytes_per_evaluation = file.individual_bytes / evaluations;
+    cost.bytes_per_generation = file.generation_bytes / (kProbeGenerations + 1);
     cost.kb_bytes_per_observation = kb;
-    cost.bytes_fixed = std::max(0.0, total - individual - generation - kb);
+    cost.bytes_fixed = std::max(0.0, file.total_bytes - file.individual_bytes - file.generation_bytes - kb);
     cost.observations = config.kb ? cost.generations / config.kb->period + 1 : 0;
 }
 

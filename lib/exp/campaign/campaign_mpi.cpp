@@ -10,9 +10,9 @@
 #include "core/error.hpp"
 #include "core/progress.hpp"
 #include "core/text.hpp"
-#include "core/writer_lock.hpp"
 #include "exp/evolution.hpp"
 #include "exp/mpi_evolve.hpp"
+#include "exp/parallel/writer_lock.hpp"
 
 namespace stepstone::exp {
 

@@ -8,9 +8,9 @@
 
 #include <memory>
 
-#include "core/mpi.hpp"
 #include "exp/campaign/campaign_runner.hpp"
 #include "exp/mpi_evolve.hpp"
+#include "exp/parallel/mpi.hpp"
 
 namespace stepstone::exp {
 

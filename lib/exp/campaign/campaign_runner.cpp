@@ -9,13 +9,13 @@
 #include <thread>
 
 #include "core/assert.hpp"
-#include "core/child_process.hpp"
 #include "core/error.hpp"
 #include "core/text.hpp"
-#include "core/writer_lock.hpp"
 #include "db/database.hpp"
 #include "db/digest.hpp"
 #include "exp/evaluation.hpp"
+#include "exp/parallel/child_process.hpp"
+#include "exp/parallel/writer_lock.hpp"
 
 namespace stepstone::exp {
 

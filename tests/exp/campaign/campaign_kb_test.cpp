@@ -9,6 +9,7 @@
 #include "db/database.hpp"
 #include "db/kb_store.hpp"
 #include "kb/oracle.hpp"
+#include "nn/genome.hpp"
 #include "runs/campaign_config.hpp"
 #include "support/campaigns.hpp"
 #include "support/run_cli.hpp"
@@ -86,4 +87,35 @@ TEST_CASE("the demo's KB fixture gunzips to a KB with rewards spread over a rang
     CHECK_THROWS_WITH(exp::gunzip_file(examples / "campaign_quick.json", dir / "x.db"),
                       Catch::Contains("campaign_quick.json: not whole gzip data"));
     CHECK_FALSE(std::filesystem::exists(dir / "x.db"));
+}
+
+TEST_CASE(
+    "the demo's seed fixture: a paper-size source run's 100 best policies, a finished run of 12 -> 3 "
+    "networks",
+    "[exp][campaign][examples][seed]") {
+    const std::filesystem::path examples = std::filesystem::path(STEPSTONE_SOURCE_DIR) / "examples";
+    const auto quick = runs::CampaignConfig::load(examples / "campaign_quick.json");
+    REQUIRE(quick.seed);
+    REQUIRE(quick.seed->from_file);
+    CHECK(quick.seed->with == runs::SeedWith::best);
+    CHECK(quick.seed->count == 100);
+    CHECK(quick.target.config.ea.population_size == 100);  // every seed has a place in generation 0
+    CHECK(std::filesystem::file_size(quick.seed->file) < (1u << 20));  // committed: under 1 MiB
+
+    auto connection = db::open_database(quick.seed->file, db::OpenMode::read_only);
+    CHECK(connection.query_int("SELECT count(*) FROM run WHERE status = 'finished'").value_or(-1) == 1);
+    CHECK(connection.query_int("SELECT generations_done FROM run").value_or(-1) == 4000);
+    // E1's source run of seed 1 (docs/results.md section 1) reached 0.375 (9 balls of 24) and
+    // stored more than 100 genomes at it: the 100 best are all at that reward
+    CHECK(connection.query_int("SELECT count(*) FROM individual WHERE reward = 9.0 / 24").value_or(-1) ==
+          100);
+    auto select = connection.prepare("SELECT genome FROM genome");
+    int genomes = 0;
+    while (select.step()) {
+        const auto genome = nn::Genome::from_json(nlohmann::json::parse(select.column_text(0)));
+        CHECK(genome.input_count() == 12);
+        CHECK(genome.output_count() == 3);
+        ++genomes;
+    }
+    CHECK(genomes == 100);
 }

@@ -1,1 +1,0 @@
-SELECT id, file FROM campaign_run ORDER BY id
