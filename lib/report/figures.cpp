@@ -69,11 +69,11 @@ void draw_run_shaping(Canvas& canvas, std::span<const GenerationPoint> generatio
     Curve mean{"mean r_max", kGreen, {}, {}, {}, {}, false, false};
     Curve max{"largest r_max", kPurple, {}, {}, {}, {}, true, false};
     for (const auto& g : generations) {
-        if (!g.mean_shaping) continue;
+        if (!g.mean_r_max) continue;
         mean.x.push_back(g.generation);
-        mean.y.push_back(*g.mean_shaping);
+        mean.y.push_back(*g.mean_r_max);
         max.x.push_back(g.generation);
-        max.y.push_back(g.max_shaping.value_or(0.0));
+        max.y.push_back(g.max_r_max.value_or(0.0));
     }
     const Curve curves[] = {mean, max};
     line_chart(canvas, {title, "generation", "r_max of the evaluated policies (KB average reward)", {}, {}}, curves);
@@ -217,7 +217,7 @@ void draw_treatment_shaping(Canvas& canvas, std::span<const runs::Treatment> tre
                       "mean r_max / A (A: the KB's largest average)",
                       {},
                       {}},
-                     [](const GenerationPoint& g) { return g.mean_shaping; });
+                     [](const GenerationPoint& g) { return g.mean_r_max; });
 }
 
 void draw_treatment_medians(Canvas& canvas, std::span<const runs::Treatment> treatments,

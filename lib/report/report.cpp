@@ -146,7 +146,8 @@ void run_report(const ReportOptions& options, const fs::path& dir, ReportSummary
                 "Best and median task reward of the survivors in each generation.",
                 [&](Canvas& c) { draw_run_rewards(c, generations, concat("Task reward per generation: ", file)); });
     progress.update(1);
-    if (std::any_of(generations.begin(), generations.end(), [](const auto& g) { return g.mean_shaping.has_value(); })) {
+    if (std::any_of(generations.begin(), generations.end(),
+                    [](const auto& g) { return g.mean_r_max.has_value(); })) {
         page.figure("shaping", kFigureWidth, kFigureHeight,
                     "r_max (the largest average reward of the KB segments matched by a policy) of the policies "
                     "evaluated in each generation.",
@@ -195,7 +196,7 @@ void run_report(const ReportOptions& options, const fs::path& dir, ReportSummary
     for (const std::size_t i : sample_indices(generations.size(), 10)) {
         const auto& g = generations[i];
         rows.push_back({std::to_string(g.generation), fixed(g.best, 4), fixed(g.median, 4),
-                        g.mean_shaping ? fixed(*g.mean_shaping, 4) : "-"});
+                        g.mean_r_max ? fixed(*g.mean_r_max, 4) : "-"});
     }
     page.table({"generation", "best reward", "median reward", "mean r_max"}, rows);
     page.heading("Provenance");

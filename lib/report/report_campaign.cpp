@@ -159,7 +159,8 @@ void add_statistics(Page& page, const runs::CampaignStats& stats, const std::vec
                 [&](Canvas& c) { draw_treatment_medians(c, treatments, series); });
     const bool shaped = std::any_of(series.begin(), series.end(), [](const auto& t) {
         return std::any_of(t.begin(), t.end(), [](const auto& run) {
-            return std::any_of(run.begin(), run.end(), [](const auto& g) { return g.mean_shaping.has_value(); });
+            return std::any_of(run.begin(), run.end(),
+                               [](const auto& g) { return g.mean_r_max.has_value(); });
         });
     });
     if (shaped) {
@@ -173,8 +174,8 @@ void add_statistics(Page& page, const runs::CampaignStats& stats, const std::vec
             const double a = kb == largest.end() ? 0.0 : kb->second;
             for (auto& run : normalised[t]) {
                 for (auto& g : run) {
-                    if (g.mean_shaping)
-                        g.mean_shaping = a > 0.0 ? std::optional(*g.mean_shaping / a) : std::nullopt;
+                    if (g.mean_r_max)
+                        g.mean_r_max = a > 0.0 ? std::optional(*g.mean_r_max / a) : std::nullopt;
                 }
             }
         }

@@ -13,8 +13,8 @@ std::vector<GenerationPoint> load_generations(db::Connection& connection, std::i
         p.generation = static_cast<int>(rows.column_int(0));
         p.best = rows.column_double(1);
         p.median = rows.column_double(2);
-        if (!rows.is_null(4)) p.mean_shaping = rows.column_double(4);
-        if (!rows.is_null(5)) p.max_shaping = rows.column_double(5);
+        if (!rows.is_null(4)) p.mean_r_max = rows.column_double(4);
+        if (!rows.is_null(5)) p.max_r_max = rows.column_double(5);
         out.push_back(p);
     }
     return out;

@@ -18,8 +18,8 @@ struct GenerationPoint {
     int generation = 0;
     double best = 0.0;                   ///< best task reward among the survivors
     double median = 0.0;                 ///< median task reward among the survivors
-    std::optional<double> mean_shaping;  ///< mean r_max of the policies evaluated then
-    std::optional<double> max_shaping;   ///< largest r_max of the policies evaluated then
+    std::optional<double> mean_r_max;    ///< mean r_max of the policies evaluated then
+    std::optional<double> max_r_max;     ///< largest r_max of the policies evaluated then
 };
 
 /// The generation table of run `run_id`, in generation order.

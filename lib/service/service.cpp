@@ -437,8 +437,8 @@ json KbService::generations(std::int64_t id) const {
             out.push_back({{"generation", g.generation},
                            {"best_reward", g.best},
                            {"median_reward", g.median},
-                           {"mean_r_max", g.mean_shaping ? json(*g.mean_shaping) : json()},
-                           {"max_r_max", g.max_shaping ? json(*g.max_shaping) : json()}});
+                           {"mean_r_max", g.mean_r_max ? json(*g.mean_r_max) : json()},
+                           {"max_r_max", g.max_r_max ? json(*g.max_r_max) : json()}});
         }
         return out;
     }

@@ -101,7 +101,7 @@ TEST_CASE("every figure renders as PNG and SVG from a small run", "[report]") {
                  [&](Canvas& c) { draw_treatment_rewards(c, stats); });
     // the run's own r_max values are NULL (a source run); give two runs some
     std::vector<GenerationPoint> shaped = generations;
-    for (std::size_t g = 0; g < shaped.size(); ++g) shaped[g].mean_shaping = 0.1 * static_cast<double>(g);
+    for (std::size_t g = 0; g < shaped.size(); ++g) shaped[g].mean_r_max = 0.1 * static_cast<double>(g);
     const std::vector<std::vector<std::vector<GenerationPoint>>> series{{shaped, shaped}};
     const runs::Treatment treatments[] = {runs::Treatment::sum};
     check_figure("treatment shaping", kFigureWidth, kFigureHeight,
