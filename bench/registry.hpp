@@ -63,7 +63,7 @@ private:
 };
 
 /// A registry holding every case of cases.cpp's adders (the simulator, episode,
-/// network, diversity, KB, shaped-run, evolve, MPI, render and serve cases).
+/// network, diversity, KB, shaped-run, evolve, evolved-population, MPI, render and serve cases).
 /// Registration is explicit: this function calls each adder in turn.
 Registry default_registry();
 

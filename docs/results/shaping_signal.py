@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""The shaping signal of target runs: r_max (individual.shaping) and task
+"""The shaping signal of target runs: r_max (individual.r_max; individual.shaping in files
+of schema 7 and older) and task
 reward of the evaluated policies, per treatment, over generation windows.
 
 Usage:
@@ -33,7 +34,9 @@ def quartiles(values):
 def rows_of(path, window):
     con = sqlite3.connect(f"file:{path}?mode=ro", uri=True)
     out = {}
-    for gen, shaping, reward in con.execute("SELECT generation, shaping, reward FROM individual"):
+    columns = {row[1] for row in con.execute("PRAGMA table_info(individual)")}
+    score = "r_max" if "r_max" in columns else "shaping"
+    for gen, shaping, reward in con.execute(f"SELECT generation, {score}, reward FROM individual"):
         key = gen // window * window if window else 0
         out.setdefault(key, []).append((shaping, reward))
     return out
