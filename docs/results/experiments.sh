@@ -58,6 +58,7 @@ stats() {  # NAME [PREFIX]: the CSVs and the Kaplan-Meier figure of the runs tha
     "$stepstone" report "$dir" --out "$out/$1-report" --force --quiet
     cp "$out/$1-report/kaplan-meier.png" "$here/figures/${name}_kaplan_meier.png"
     cp "$out/$1-report/milestone-shares.png" "$here/figures/${name}_milestone_shares.png"
+    cp "$out/$1-report/treatment-rewards.png" "$here/figures/${name}_rewards.png"
     /usr/bin/python3 "$repo/scripts/logrank-check" "$here/${name}_events.csv" "$here/${name}_logrank.csv" > /dev/null
     /usr/bin/python3 "$repo/scripts/hazard-check" "$here/${name}_events.csv" "$here/${name}_hazard.csv" > /dev/null
 }
