@@ -75,7 +75,7 @@ void run_demo(const DemoFlags& flags) {
     runs::write_text(std::cout, runs::campaign_stats(camp, std::nullopt, 0.5), runs::Milestone::ball);
     std::cout << "   a demo is one small sample (3 seeds, 30 generations): it shows the machinery, and its\n"
                  "   seed arm (started from a paper-size source run's 100 best policies,\n"
-                 "   examples/fixtures/demo_seeds.db) shows transfer by reuse. What the\n"
+                 "   examples/fixtures/demo_seeds.db.gz) shows transfer by reuse. What the\n"
                  "   pre-registered experiments found, on 20 to 40 runs an arm, is in docs/results.md\n"
                  "   (sections 9 to 12).\n";
     std::cout << "   query the runs with SQL: sqlite3 " << (camp / "campaign.db").string()

@@ -55,7 +55,18 @@ const runs::CampaignRun& best_source_run(const std::vector<runs::CampaignRun>& r
 
 fs::path campaign_seed_source(const fs::path& dir, const runs::CampaignConfig& config,
                               const std::vector<runs::CampaignRun>& runs) {
-    if (config.seed && config.seed->from_file) return config.seed->file;
+    if (config.seed && config.seed->from_file) {
+        if (config.seed->file.extension() != ".gz") return config.seed->file;
+        // a compressed run file (the demo's fixture): uncompressed once into the campaign
+        const fs::path plain = dir / "seed" / "source.db";
+        if (!fs::exists(plain)) {
+            fs::create_directories(plain.parent_path());
+            const fs::path partial = plain.string() + ".partial";
+            gunzip_file(config.seed->file, partial);
+            fs::rename(partial, plain);
+        }
+        return plain;
+    }
     return dir / best_source_run(runs).run.file;
 }
 

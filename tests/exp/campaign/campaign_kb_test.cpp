@@ -100,9 +100,12 @@ TEST_CASE(
     CHECK(quick.seed->with == runs::SeedWith::best);
     CHECK(quick.seed->count == 100);
     CHECK(quick.target.config.ea.population_size == 100);  // every seed has a place in generation 0
+    CHECK(quick.seed->file.extension() == ".gz");
     CHECK(std::filesystem::file_size(quick.seed->file) < (1u << 20));  // committed: under 1 MiB
 
-    auto connection = db::open_database(quick.seed->file, db::OpenMode::read_only);
+    test::TempDir dir;
+    exp::gunzip_file(quick.seed->file, dir / "seeds.db");
+    auto connection = db::open_database(dir / "seeds.db", db::OpenMode::read_only);
     CHECK(connection.query_int("SELECT count(*) FROM run WHERE status = 'finished'").value_or(-1) == 1);
     CHECK(connection.query_int("SELECT generations_done FROM run").value_or(-1) == 4000);
     // E1's source run of seed 1 (docs/results.md section 1) reached 0.375 (9 balls of 24) and
