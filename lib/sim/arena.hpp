@@ -63,6 +63,11 @@ public:
     bool segment_blocked_by(std::uint32_t walls, double x0, double y0, double x1, double y1, bool door_open) const;
     /// True when the robot disc (kRobotRadius) centred at (x, y) overlaps a wall.
     bool disc_overlaps(double x, double y, bool door_open) const;
+    /// disc_overlaps() of `count` (at most 32) centres at once: bit l is set when the disc at
+    /// (x[l], y[l]) overlaps a wall, the door a wall unless bit l of `door_open` is set. The
+    /// same single-precision test, one slot after the other across the centres.
+    std::uint32_t disc_overlaps_lanes(const double* x, const double* y, std::uint32_t door_open,
+                                      std::size_t count) const;
     /// Overlap test plus the bumpers: the bearing range, relative to the pose's
     /// heading, of each overlap region between the disc and a wall.
     Contact contact(const Pose& pose, bool door_open) const;

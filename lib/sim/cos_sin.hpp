@@ -54,9 +54,6 @@ struct CosSinMemo {
 struct CosSinMemos {
     CosSinMemo heading;
     CosSinMemo turn;
-    /// heading - pi/2 of the last arc (portable runs only: filled ahead by
-    /// the lanes of sim::run_episode_queue, then found here by the move)
-    CosSinMemo rotation;
     /// the evaluation's functions: portable::sincos, else std::cos and std::sin
     bool portable = false;
 };

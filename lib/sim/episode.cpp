@@ -86,25 +86,16 @@ void Episode::clamp_outputs(float* outputs) {
     }
 }
 
-MoveAngles Episode::move_angles(const float* outputs) const {
-    return sim::move_angles(pose_, wheel_step(outputs[0]), wheel_step(outputs[1]));
-}
-
-void Episode::prime_cos_sin(const MoveAngles& angles, const CosSin* values) {
-    const auto put = [](CosSinMemo& memo, double angle, const CosSin& value) {
-        memo.bits = std::bit_cast<std::uint64_t>(angle);
-        memo.value = value;
-    };
-    put(memos_.heading, angles.heading, values[0]);
-    if (!angles.arc) return;
-    put(memos_.turn, angles.turn, values[1]);
-    put(memos_.rotation, angles.rotation, values[2]);
-}
-
 void Episode::act_clamped(const float* outputs) {
-    STEPSTONE_ASSERT(start_ >= 0 && !stopped_);
     const CosSinMemoScope scope(memos_);
+    act_before_move(outputs);
+    const Pose before = pose_;
+    move(outputs[0], outputs[1]);
+    end_step(before);
+}
 
+void Episode::act_before_move(const float* outputs) {
+    STEPSTONE_ASSERT(start_ >= 0 && !stopped_);
     record(outputs);
     apply_action(outputs[2]);
     milestones_.carry_steps += carrying_ ? 1 : 0;
@@ -117,10 +108,19 @@ void Episode::act_clamped(const float* outputs) {
             --switch_timer_;
         }
     }
+}
 
+void Episode::act_after_move(const Pose& next, const CosSin& heading, bool touches) {
+    const CosSinMemoScope scope(memos_);
+    // the sensors (and the bumpers) take the new heading's cos and sin from the memo
+    memos_.heading.bits = std::bit_cast<std::uint64_t>(next.heading);
+    memos_.heading.value = heading;
     const Pose before = pose_;
-    move(outputs[0], outputs[1]);
+    take_move(next, touches ? task_->arena().contact(next, state_.door_open) : Contact{});
+    end_step(before);
+}
 
+void Episode::end_step(const Pose& before) {
     // stand-still rule: the count is never reset and ends the whole evaluation
     if (is_still(before, pose_) && ++still_steps_ > task_->config().still_limit) stopped_ = true;
 
@@ -186,8 +186,10 @@ void Episode::apply_action(float action) {
 
 void Episode::move(float left_output, float right_output) {
     const Pose next = move_pose(pose_, wheel_step(left_output), wheel_step(right_output));
-    const Contact contact = task_->arena().contact(next, state_.door_open);
+    take_move(next, task_->arena().contact(next, state_.door_open));
+}
 
+void Episode::take_move(const Pose& next, const Contact& contact) {
     // a blocked move keeps the position but takes the new heading
     if (contact.hit) {
         pose_.heading = next.heading;

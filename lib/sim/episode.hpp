@@ -10,7 +10,6 @@
 #include <vector>
 
 #include "core/assert.hpp"
-#include "core/portable_math_lanes.hpp"
 #include "sim/cos_sin.hpp"
 #include "sim/robot.hpp"
 #include "sim/sensors.hpp"
@@ -105,13 +104,14 @@ public:
     /// the clamping, then the rest on the clamped outputs.
     void clamp_outputs(float* outputs);
     void act_clamped(const float* outputs);
-    /// The angles whose cos and sin act_clamped(outputs) will take (robot.hpp).
-    MoveAngles move_angles(const float* outputs) const;
-    /// Puts the cos and sin of `angles` (in MoveAngles' order: the heading,
-    /// then for an arc the turn and the rotation) where act_clamped() looks
-    /// for them first: the memos, which hold exact values, so a wrong value
-    /// here would change results; the callers give portable::sincos's bits.
-    void prime_cos_sin(const MoveAngles& angles, const CosSin* values);
+    /// act_clamped() in two halves around the move, for lanes that move several episodes at
+    /// once (portable runs): the recording, the action and the switch timer at the current
+    /// pose, then the move to `next` (move_pose()'s answer, e.g. from move_lanes(), with
+    /// `heading` the cos and sin of next.heading), the contact test (`touches`: whether the
+    /// disc at `next` overlaps a wall, as Arena::disc_overlaps_lanes() says; contact() is
+    /// none otherwise), the stand-still rule and the sensing.
+    void act_before_move(const float* outputs);
+    void act_after_move(const Pose& next, const CosSin& heading, bool touches);
     /// Ends the episode: pads the recording after an early stop, returns the result.
     EpisodeResult finish();
 
@@ -141,6 +141,8 @@ private:
     void record(const float* outputs);
     void apply_action(float action);
     void move(float left_output, float right_output);
+    void take_move(const Pose& next, const Contact& contact);
+    void end_step(const Pose& before);
 
     const Task* task_;
     Recording recording_;
@@ -236,15 +238,14 @@ void run_episode_queue(const Task& task, Controller& controller, std::size_t job
     };
     for (std::size_t l = 0; l < lanes; ++l) take_next_job(l);
 
-    // portable runs take the cos and sin of every lane's move at once (portable::sincos_lanes,
-    // the scalar function's bits) and hand them to the episodes' memos; libm runs do not
+    // portable runs move every lane at once (move_lanes: the odometry with portable::sincos_lanes,
+    // the scalar function's bits; Arena::disc_overlaps_lanes: the contact test's common case);
+    // libm runs step each lane's episode alone
     const bool portable = config.math == Math::portable;
     std::array<float, kInputs> inputs{};
     std::array<std::array<float, kOutputs>, 32> outputs{};
-    std::array<MoveAngles, 32> moves{};
-    std::array<double, 3 * 32> angles{};
-    std::array<double, 3 * 32> sines{};
-    std::array<double, 3 * 32> cosines{};
+    std::array<std::uint8_t, 32> lane_of{};  // lane of each moved slot
+    MoveLanes moves;
     while (running != 0) {
         for (std::uint32_t bits = running; bits != 0; bits &= bits - 1) {
             const auto l = static_cast<std::size_t>(std::countr_zero(bits));
@@ -252,35 +253,44 @@ void run_episode_queue(const Task& task, Controller& controller, std::size_t job
             controller.set_inputs(l, inputs.data());
         }
         controller.step();
-        std::size_t angle_count = 0;
+        std::size_t count = 0;
+        std::uint32_t door_open = 0;
         for (std::uint32_t bits = running; bits != 0; bits &= bits - 1) {
             const auto l = static_cast<std::size_t>(std::countr_zero(bits));
             controller.get_outputs(l, outputs[l].data());
-            episodes[l]->clamp_outputs(outputs[l].data());
+            Episode& episode = *episodes[l];
+            episode.clamp_outputs(outputs[l].data());
             if (!portable) continue;
-            const MoveAngles move = episodes[l]->move_angles(outputs[l].data());
-            moves[l] = move;
-            angles[angle_count++] = move.heading;
-            if (move.arc) {
-                angles[angle_count++] = move.turn;
-                angles[angle_count++] = move.rotation;
-            }
+            episode.act_before_move(outputs[l].data());
+            const Pose& pose = episode.pose();
+            moves.x[count] = pose.x;
+            moves.y[count] = pose.y;
+            moves.heading[count] = pose.heading;
+            moves.left[count] = outputs[l][0];
+            moves.right[count] = outputs[l][1];
+            door_open |= static_cast<std::uint32_t>(episode.door_open()) << count;
+            lane_of[count++] = static_cast<std::uint8_t>(l);
         }
-        portable::sincos_lanes(angles.data(), sines.data(), cosines.data(), angle_count);
-        std::size_t next_angle = 0;
+        std::uint32_t touches = 0;
+        if (portable) {
+            moves.count = count;
+            move_lanes(moves);
+            touches = task.arena().disc_overlaps_lanes(moves.next_x.data(), moves.next_y.data(), door_open, count);
+        }
+        std::size_t slot = 0;
         for (std::uint32_t bits = running; bits != 0; bits &= bits - 1) {
             const auto l = static_cast<std::size_t>(std::countr_zero(bits));
             Episode& episode = *episodes[l];
             Lane& lane = lane_state[l];
             if (portable) {
-                std::array<CosSin, 3> values;
-                const std::size_t count = moves[l].arc ? 3 : 1;
-                for (std::size_t i = 0; i < count; ++i, ++next_angle) {
-                    values[i] = CosSin{cosines[next_angle], sines[next_angle]};
-                }
-                episode.prime_cos_sin(moves[l], values.data());
+                STEPSTONE_ASSERT(lane_of[slot] == l);
+                episode.act_after_move(Pose{moves.next_x[slot], moves.next_y[slot], moves.next_heading[slot]},
+                                       CosSin{moves.next_cos[slot], moves.next_sin[slot]},
+                                       ((touches >> slot) & 1u) != 0);
+                ++slot;
+            } else {
+                episode.act_clamped(outputs[l].data());
             }
-            episode.act_clamped(outputs[l].data());
             // run_episode's loops: the next step, else the next start, else the end
             bool ended = episode.stopped();
             if (!ended && ++lane.step == config.steps_per_start) {

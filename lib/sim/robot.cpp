@@ -1,7 +1,12 @@
 #include "sim/robot.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <type_traits>
 
+#include "core/portable_math_lanes.hpp"
 #include "sim/cos_sin.hpp"
 #include "sim/units.hpp"
 
@@ -16,14 +21,13 @@ double normalize_angle(double angle) {
 
 namespace {
 
-// a move's angles, one expression each for move_pose() and move_angles()
+// a move's angles, one expression each for move_pose() and move_lanes()
 double turn_of(double left, double right) { return (right - left) / kWheelBase; }
 bool is_straight(double alpha) { return std::fabs(alpha) <= 1e-10; }
 double rotation_of(const Pose& pose) { return pose.heading - kPi / 2.0; }
 double heading_after(const Pose& pose, double alpha) { return normalize_angle(pose.heading + alpha); }
 
-// the arc of a turning move, with the run's sin and cos known at compile time (one branch a move);
-// the portable one reads the rotation memo, which the lanes of run_episode_queue fill ahead
+// the arc of a turning move, with the run's sin and cos known at compile time (one branch a move)
 template <bool Portable>
 Pose move_arc(const Pose& pose, double left, double alpha, CosSinMemos& memos) {
     Pose next = pose;
@@ -33,18 +37,19 @@ Pose move_arc(const Pose& pose, double left, double alpha, CosSinMemos& memos) {
     const CosSin turn = memos.turn.get(alpha, Portable);
     const double local_x = (turn.c - 1.0) * radius;
     const double local_y = turn.s * radius;
-    CosSin rotation;
-    if constexpr (Portable) {
-        rotation = memos.rotation.get(rotation_of(pose), true);
-    } else {
-        rotation = CosSinMemo::compute<false>(rotation_of(pose));
-    }
+    const CosSin rotation = CosSinMemo::compute<Portable>(rotation_of(pose));
     const double c = rotation.c;
     const double s = rotation.s;
     next.x += local_x * c - local_y * s;
     next.y += local_x * s + local_y * c;
     next.heading = heading_after(pose, alpha);
     return next;
+}
+
+// a vector's lanes from memory (by reference: no vector crosses a call in the baseline build)
+template <class Vector, class T>
+[[gnu::always_inline]] inline void load(Vector& vector, const T* from) {
+    std::memcpy(&vector, from, sizeof vector);
 }
 
 }  // namespace
@@ -65,10 +70,88 @@ Pose move_pose(const Pose& pose, double left, double right) {
                           : move_arc<false>(pose, left, alpha, memos);
 }
 
-MoveAngles move_angles(const Pose& pose, double left, double right) {
-    const double alpha = turn_of(left, right);
-    if (is_straight(alpha)) return {false, 0.0, 0.0, pose.heading};
-    return {true, alpha, rotation_of(pose), heading_after(pose, alpha)};
+void move_lanes(MoveLanes& lanes) {
+    // two lanes a vector (GCC's vector extension, one SSE register),
+    // every expression as move_pose()'s, both of its branches computed and one chosen by lane
+    using Doubles = double __attribute__((vector_size(16)));
+    using Floats = float __attribute__((vector_size(8)));
+    using Longs = std::int64_t __attribute__((vector_size(16)));
+    constexpr std::size_t kWidth = 2;
+    constexpr std::size_t kMax = MoveLanes::kMaxLanes;
+    const std::size_t n = lanes.count;
+    const std::size_t padded = (n + kWidth - 1) / kWidth * kWidth;
+    for (std::size_t l = n; l < padded; ++l) {  // padding lanes: a straight move from the origin
+        lanes.x[l] = lanes.y[l] = lanes.heading[l] = 0.0;
+        lanes.left[l] = lanes.right[l] = 0.5f;
+    }
+    // the angles: the new heading of every lane, then the turn and the rotation of every lane
+    // (asked for in every lane; a straight lane ignores them)
+    alignas(64) std::array<double, 3 * kMax> angles{};  // {}: read by an out-of-line call
+    alignas(64) std::array<double, 3 * kMax> sines;
+    alignas(64) std::array<double, 3 * kMax> cosines;
+    alignas(64) std::array<double, kMax> left;
+    Longs wrapped_twice = {};
+    for (std::size_t l = 0; l < padded; l += kWidth) {
+        Floats left_output;
+        Floats right_output;
+        Doubles heading;
+        load(left_output, &lanes.left[l]);
+        load(right_output, &lanes.right[l]);
+        load(heading, &lanes.heading[l]);
+        // wheel_step() and turn_of()
+        const Doubles a = 4.0 * (2.0 * __builtin_convertvector(left_output, Doubles) - 1.0);
+        const Doubles b = 4.0 * (2.0 * __builtin_convertvector(right_output, Doubles) - 1.0);
+        const Doubles alpha = (b - a) / kWheelBase;
+        // normalize_angle()'s loops, once each: a heading in (-pi, pi] plus a turn of at most
+        // 0.2 rad wraps at most once (checked below)
+        Doubles h = heading + alpha;
+        h = h > kPi ? h - 2.0 * kPi : h;
+        h = h <= -kPi ? h + 2.0 * kPi : h;
+        wrapped_twice |= (h > kPi) | (h <= -kPi);
+        const Longs straight = (alpha <= 1e-10) & (alpha >= -1e-10);  // is_straight(): fabs(alpha) <= 1e-10
+        const Doubles next = straight != 0 ? heading : h;
+        const Doubles rotation = heading - kPi / 2.0;
+        std::memcpy(&left[l], &a, sizeof a);
+        std::memcpy(&angles[l], &next, sizeof next);
+        std::memcpy(&angles[kMax + l], &alpha, sizeof alpha);
+        std::memcpy(&angles[2 * kMax + l], &rotation, sizeof rotation);
+    }
+    bool any_wrapped_twice = false;
+    for (std::size_t i = 0; i < kWidth; ++i) any_wrapped_twice |= wrapped_twice[i] != 0;
+    if (any_wrapped_twice) {
+        for (std::size_t l = 0; l < n; ++l) {
+            const double alpha = angles[kMax + l];
+            if (!is_straight(alpha)) angles[l] = heading_after(Pose{0.0, 0.0, lanes.heading[l]}, alpha);
+        }
+    }
+    for (std::size_t part = 0; part < 3; ++part) {
+        portable::sincos_lanes(&angles[part * kMax], &sines[part * kMax], &cosines[part * kMax], padded);
+    }
+    for (std::size_t l = 0; l < padded; l += kWidth) {
+        Doubles a, alpha, hc, hs, tc, ts, rc, rs, x0, y0;
+        load(a, &left[l]);
+        load(alpha, &angles[kMax + l]);
+        load(hc, &cosines[l]);
+        load(hs, &sines[l]);
+        load(tc, &cosines[kMax + l]);
+        load(ts, &sines[kMax + l]);
+        load(rc, &cosines[2 * kMax + l]);
+        load(rs, &sines[2 * kMax + l]);
+        load(x0, &lanes.x[l]);
+        load(y0, &lanes.y[l]);
+        // move_arc()'s arithmetic
+        const Doubles radius = a / alpha + kWheelBase / 2.0;
+        const Doubles local_x = (tc - 1.0) * radius;
+        const Doubles local_y = ts * radius;
+        const Longs straight = (alpha <= 1e-10) & (alpha >= -1e-10);
+        const Doubles x = x0 + (straight != 0 ? a * hc : local_x * rc - local_y * rs);
+        const Doubles y = y0 + (straight != 0 ? a * hs : local_x * rs + local_y * rc);
+        std::memcpy(&lanes.next_x[l], &x, sizeof x);
+        std::memcpy(&lanes.next_y[l], &y, sizeof y);
+        std::memcpy(&lanes.next_cos[l], &hc, sizeof hc);
+        std::memcpy(&lanes.next_sin[l], &hs, sizeof hs);
+    }
+    std::copy(angles.begin(), angles.begin() + static_cast<std::ptrdiff_t>(n), lanes.next_heading.begin());
 }
 
 bool is_still(const Pose& before, const Pose& after) {

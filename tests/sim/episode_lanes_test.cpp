@@ -103,8 +103,9 @@ void require_same(const Records& lanes, const Records& alone) {
     CHECK(differences == 0);
 }
 
-void check_queues_match_alone(Math math) {
+void check_queues_match_alone(Math math, TaskKind kind = TaskKind::source) {
     TaskConfig config;
+    config.kind = kind;
     config.steps_per_start = 400;
     config.still_limit = 40;
     config.math = math;
@@ -130,7 +131,7 @@ void check_queues_match_alone(Math math) {
         // queues shorter than, as long as and longer than the lanes
         for (const std::size_t jobs : {std::max<std::size_t>(1, lanes - 1), lanes, 2 * lanes + 3}) {
             if (jobs > alone.size()) continue;
-            INFO(lanes << " lanes, " << jobs << " jobs, math " << to_string(math));
+            INFO(lanes << " lanes, " << jobs << " jobs, math " << to_string(math) << ", task " << to_string(kind));
             PolicyLanes controller;
             controller.lane_count = lanes;
             std::vector<Records> records(jobs);
@@ -154,6 +155,10 @@ void check_queues_match_alone(Math math) {
 
 TEST_CASE("queues of episodes in lanes equal each episode alone, portable math", "[sim][episode][lanes]") {
     check_queues_match_alone(Math::portable);
+}
+
+TEST_CASE("queues of episodes in lanes equal each episode alone, target task (door open)", "[sim][episode][lanes]") {
+    check_queues_match_alone(Math::portable, TaskKind::target);
 }
 
 TEST_CASE("queues of episodes in lanes equal each episode alone, libm math", "[sim][episode][lanes]") {

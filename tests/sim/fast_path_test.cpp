@@ -214,3 +214,84 @@ TEST_CASE("bumpers from the quarters' signs equal those from atan2 bearings", "[
     CHECK(left > 30'000);
     CHECK(right > 30'000);
 }
+
+TEST_CASE("disc overlaps of many centres at once equal one at a time, each lane with its own door",
+          "[sim][arena][fast][lanes]") {
+    const Arena arena;
+    stepstone::Rng rng(23);
+    long overlaps = 0;
+    long door_answers_differ = 0;  // centres where the door's state changes the answer
+    for (int round = 0; round < 4'000; ++round) {
+        const std::size_t count = 1 + static_cast<std::size_t>(rng.below(32));
+        double xs[32];
+        double ys[32];
+        const auto door_open = static_cast<std::uint32_t>(rng.below(1ull << 32));
+        for (std::size_t l = 0; l < count; ++l) {
+            // near a wall's box (the door's in a quarter of the lanes): inside, touching and clear of it
+            const auto walls = arena.walls();
+            const WallBox& box = l % 4 == 0 ? walls[static_cast<std::size_t>(arena.door_index())]
+                                            : walls[static_cast<std::size_t>(rng.below(walls.size()))];
+            xs[l] = rng.uniform(box.x0 - 30.0, box.x1 + 30.0);
+            ys[l] = rng.uniform(box.y0 - 30.0, box.y1 + 30.0);
+        }
+        const std::uint32_t bits = arena.disc_overlaps_lanes(xs, ys, door_open, count);
+        for (std::size_t l = 0; l < count; ++l) {
+            const bool open = ((door_open >> l) & 1u) != 0;
+            const bool alone = arena.disc_overlaps(xs[l], ys[l], open);
+            REQUIRE(((bits >> l) & 1u) == (alone ? 1u : 0u));
+            overlaps += alone ? 1 : 0;
+            door_answers_differ += alone != arena.disc_overlaps(xs[l], ys[l], !open) ? 1 : 0;
+        }
+        REQUIRE((count == 32 || (bits >> count) == 0));  // no bit past the lanes
+    }
+    CHECK(overlaps > 10'000);
+    CHECK(door_answers_differ > 1'000);
+}
+
+TEST_CASE("moves of many lanes at once equal portable move_pose, bit for bit", "[sim][robot][fast][lanes]") {
+    stepstone::Rng rng(29);
+    CosSinMemos memos;
+    memos.portable = true;
+    const CosSinMemoScope scope(memos);
+    long straight = 0;
+    long wrapped = 0;
+    for (int round = 0; round < 4'000; ++round) {
+        MoveLanes lanes;
+        lanes.count = 1 + static_cast<std::size_t>(rng.below(32));
+        for (std::size_t l = 0; l < lanes.count; ++l) {
+            lanes.x[l] = rng.uniform(0.0, 600.0);
+            lanes.y[l] = rng.uniform(0.0, 400.0);
+            // a sixth of the headings next to +-pi, where a turn wraps
+            lanes.heading[l] = l % 6 == 0 ? (rng.bernoulli(0.5) ? kPi : -kPi) + rng.uniform(-0.2, 0.2)
+                                          : rng.uniform(-kPi, kPi);
+            lanes.heading[l] = normalize_angle(lanes.heading[l]);
+            // saturated, equal (straight) and free outputs
+            const auto output = [&] {
+                const auto kind = rng.below(3);
+                return kind == 0 ? static_cast<float>(rng.below(2)) : static_cast<float>(rng.uniform());
+            };
+            lanes.left[l] = output();
+            lanes.right[l] = rng.bernoulli(0.2) ? lanes.left[l] : output();
+        }
+        move_lanes(lanes);
+        for (std::size_t l = 0; l < lanes.count; ++l) {
+            const Pose pose{lanes.x[l], lanes.y[l], lanes.heading[l]};
+            const Pose next = move_pose(pose, wheel_step(lanes.left[l]), wheel_step(lanes.right[l]));
+            const auto same = [](double a, double b) {
+                return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b);
+            };
+            REQUIRE(same(lanes.next_x[l], next.x));
+            REQUIRE(same(lanes.next_y[l], next.y));
+            REQUIRE(same(lanes.next_heading[l], next.heading));
+            double s = 0.0;
+            double c = 0.0;
+            stepstone::portable::sincos(next.heading, s, c);
+            REQUIRE(same(lanes.next_cos[l], c));
+            REQUIRE(same(lanes.next_sin[l], s));
+            straight += lanes.left[l] == lanes.right[l] ? 1 : 0;
+            wrapped += std::fabs(next.heading - pose.heading) > kPi ? 1 : 0;  // crossed +-pi
+        }
+    }
+    CHECK(straight > 5'000);
+    CHECK(wrapped > 1'000);
+}
