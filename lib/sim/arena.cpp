@@ -406,7 +406,7 @@ bool Arena::disc_overlaps(double x, double y, bool door_open) const {
 }
 
 std::uint32_t Arena::disc_overlaps_lanes(const double* x, const double* y, std::uint32_t door_open,
-                                        std::size_t count) const {
+                                         std::size_t count) const {
     STEPSTONE_ASSERT(count <= 32);
     // four centres a vector (GCC's vector extension, one SSE register),
     // near_slots()'s single-precision squared distance of each slot in turn, the smallest kept:

@@ -275,7 +275,8 @@ void run_episode_queue(const Task& task, Controller& controller, std::size_t job
         if (portable) {
             moves.count = count;
             move_lanes(moves);
-            touches = task.arena().disc_overlaps_lanes(moves.next_x.data(), moves.next_y.data(), door_open, count);
+            touches =
+                task.arena().disc_overlaps_lanes(moves.next_x.data(), moves.next_y.data(), door_open, count);
         }
         std::size_t slot = 0;
         for (std::uint32_t bits = running; bits != 0; bits &= bits - 1) {

@@ -131,7 +131,8 @@ void check_queues_match_alone(Math math, TaskKind kind = TaskKind::source) {
         // queues shorter than, as long as and longer than the lanes
         for (const std::size_t jobs : {std::max<std::size_t>(1, lanes - 1), lanes, 2 * lanes + 3}) {
             if (jobs > alone.size()) continue;
-            INFO(lanes << " lanes, " << jobs << " jobs, math " << to_string(math) << ", task " << to_string(kind));
+            INFO(lanes << " lanes, " << jobs << " jobs, math " << to_string(math) << ", task "
+                       << to_string(kind));
             PolicyLanes controller;
             controller.lane_count = lanes;
             std::vector<Records> records(jobs);
@@ -157,7 +158,8 @@ TEST_CASE("queues of episodes in lanes equal each episode alone, portable math",
     check_queues_match_alone(Math::portable);
 }
 
-TEST_CASE("queues of episodes in lanes equal each episode alone, target task (door open)", "[sim][episode][lanes]") {
+TEST_CASE("queues of episodes in lanes equal each episode alone, target task (door open)",
+          "[sim][episode][lanes]") {
     check_queues_match_alone(Math::portable, TaskKind::target);
 }
 
