@@ -405,62 +405,6 @@ bool Arena::disc_overlaps(double x, double y, bool door_open) const {
     return near_slots(x, y, door_open).overlap != 0;
 }
 
-std::uint32_t Arena::disc_overlaps_lanes(const double* x, const double* y, std::uint32_t door_open,
-                                         std::size_t count) const {
-    STEPSTONE_ASSERT(count <= 32);
-    // four centres a vector (GCC's vector extension, one SSE register),
-    // near_slots()'s single-precision squared distance of each slot in turn, the smallest kept:
-    // the disc overlaps a wall when it is below r2. The door's slot is the open or the closed
-    // box by lane. Lanes past `count` hold a centre far from every wall.
-    using Floats = float __attribute__((vector_size(16)));
-    using Ints = std::int32_t __attribute__((vector_size(16)));
-    constexpr std::size_t kWidth = 4;
-    const auto r2 = static_cast<float>(kRobotRadius * kRobotRadius);
-    const auto door = static_cast<std::size_t>(door_index_);
-    std::uint32_t bits = 0;
-    for (std::size_t base = 0; base < count; base += kWidth) {
-        Floats cx;
-        Floats cy;
-        Ints open;
-        for (std::size_t i = 0; i < kWidth; ++i) {
-            const bool lane = base + i < count;
-            cx[i] = lane ? static_cast<float>(x[base + i]) : static_cast<float>(-kFar);
-            cy[i] = lane ? static_cast<float>(y[base + i]) : static_cast<float>(-kFar);
-            open[i] = lane && ((door_open >> (base + i)) & 1u) != 0 ? -1 : 0;
-        }
-        const Floats zero = {};
-        Floats d2_min = zero + r2;
-        for (std::size_t k = 0; k < static_cast<std::size_t>(kSlots); ++k) {
-            Floats x0 = zero + closed_.x0[k];
-            Floats x1 = zero + closed_.x1[k];
-            Floats y0 = zero + closed_.y0[k];
-            Floats y1 = zero + closed_.y1[k];
-            if (k == door) {
-                x0 = open != 0 ? zero + open_.x0[k] : x0;
-                x1 = open != 0 ? zero + open_.x1[k] : x1;
-                y0 = open != 0 ? zero + open_.y0[k] : y0;
-                y1 = open != 0 ? zero + open_.y1[k] : y1;
-            }
-            const Floats a = x0 - cx;
-            const Floats b = cx - x1;
-            const Floats c = y0 - cy;
-            const Floats d = cy - y1;
-            // std::max(std::max(a, b), 0.0f): (a < b ? b : a), then against 0 the same way
-            const Floats ab = a < b ? b : a;
-            const Floats cd = c < d ? d : c;
-            const Floats ex = ab < zero ? zero : ab;
-            const Floats ey = cd < zero ? zero : cd;
-            const Floats d2 = ex * ex + ey * ey;
-            d2_min = d2 < d2_min ? d2 : d2_min;
-        }
-        const Ints below = d2_min < r2;
-        for (std::size_t i = 0; i < kWidth && base + i < count; ++i) {
-            bits |= static_cast<std::uint32_t>(below[i] != 0) << (base + i);
-        }
-    }
-    return bits;
-}
-
 namespace {
 
 // bumper bits: left (input 9), right (input 10), and the answer is sure

@@ -68,6 +68,12 @@ public:
     /// same single-precision test, one slot after the other across the centres.
     std::uint32_t disc_overlaps_lanes(const double* x, const double* y, std::uint32_t door_open,
                                       std::size_t count) const;
+    /// ray_distance() of three rays from each of `count` (at most 32) points at once: ray r of
+    /// lane l starts at (x[l], y[l]) with the unit direction (dx[r][l], dy[r][l]), the door a
+    /// wall unless bit l of `door_open` is set; out[r][l] gets ray_distance()'s bits.
+    void ray_distances_lanes(const double* x, const double* y, const double* const (&dx)[3],
+                             const double* const (&dy)[3], double range, std::uint32_t door_open,
+                             std::size_t count, double* const (&out)[3]) const;
     /// Overlap test plus the bumpers: the bearing range, relative to the pose's
     /// heading, of each overlap region between the disc and a wall.
     Contact contact(const Pose& pose, bool door_open) const;

@@ -110,21 +110,31 @@ void Episode::act_before_move(const float* outputs) {
     }
 }
 
-void Episode::act_after_move(const Pose& next, const CosSin& heading, bool touches) {
+void Episode::move_to(const Pose& next, const CosSin& heading, bool touches) {
+    STEPSTONE_ASSERT(start_ >= 0 && !stopped_);
     const CosSinMemoScope scope(memos_);
-    // the sensors (and the bumpers) take the new heading's cos and sin from the memo
+    // the bumpers and the sensors take the new heading's cos and sin from the memo
     memos_.heading.bits = std::bit_cast<std::uint64_t>(next.heading);
     memos_.heading.value = heading;
-    const Pose before = pose_;
+    before_ = pose_;
     take_move(next, touches ? task_->arena().contact(next, state_.door_open) : Contact{});
-    end_step(before);
 }
 
-void Episode::end_step(const Pose& before) {
+void Episode::end_move(const std::array<double, 3>& lasers) {
+    const CosSinMemoScope scope(memos_);
+    end_step(before_, &lasers);
+}
+
+void Episode::end_step(const Pose& before, const std::array<double, 3>* lasers) {
     // stand-still rule: the count is never reset and ends the whole evaluation
     if (is_still(before, pose_) && ++still_steps_ > task_->config().still_limit) stopped_ = true;
 
-    sense(task_->arena(), task_->sight(), pose_, state_, readings_);
+    if (lasers != nullptr) {
+        readings_.laser = *lasers;
+        sense_lights(task_->arena(), task_->sight(), pose_, state_, readings_);
+    } else {
+        sense(task_->arena(), task_->sight(), pose_, state_, readings_);
+    }
     ++step_;
     ++steps_run_;
 }

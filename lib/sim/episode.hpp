@@ -104,14 +104,16 @@ public:
     /// the clamping, then the rest on the clamped outputs.
     void clamp_outputs(float* outputs);
     void act_clamped(const float* outputs);
-    /// act_clamped() in two halves around the move, for lanes that move several episodes at
-    /// once (portable runs): the recording, the action and the switch timer at the current
-    /// pose, then the move to `next` (move_pose()'s answer, e.g. from move_lanes(), with
-    /// `heading` the cos and sin of next.heading), the contact test (`touches`: whether the
-    /// disc at `next` overlaps a wall, as Arena::disc_overlaps_lanes() says; contact() is
-    /// none otherwise), the stand-still rule and the sensing.
+    /// act_clamped() in three parts, for lanes that move and sense several episodes at once
+    /// (portable runs, run_episode_queue): the recording, the action and the switch timer at
+    /// the current pose; then the move to `next` (move_pose()'s answer, from move_lanes(),
+    /// with `heading` the cos and sin of next.heading) and the contact test (`touches`:
+    /// whether the disc at `next` overlaps a wall, from Arena::disc_overlaps_lanes();
+    /// contact() is none otherwise); then the stand-still rule and the sensing, the three
+    /// laser distances at the pose reached given (from sense_lasers_lanes()).
     void act_before_move(const float* outputs);
-    void act_after_move(const Pose& next, const CosSin& heading, bool touches);
+    void move_to(const Pose& next, const CosSin& heading, bool touches);
+    void end_move(const std::array<double, 3>& lasers);
     /// Ends the episode: pads the recording after an early stop, returns the result.
     EpisodeResult finish();
 
@@ -142,12 +144,14 @@ private:
     void apply_action(float action);
     void move(float left_output, float right_output);
     void take_move(const Pose& next, const Contact& contact);
-    void end_step(const Pose& before);
+    // the stand-still rule, the sensing (the lasers given, or not) and the counters
+    void end_step(const Pose& before, const std::array<double, 3>* lasers = nullptr);
 
     const Task* task_;
     Recording recording_;
     CosSinMemos memos_;  // this evaluation's repeats of cos and sin
     Pose pose_;
+    Pose before_;  // the pose before move_to()'s move
     WorldState state_;
     SensorReadings readings_;
     bool bumper_left_ = false;
@@ -238,14 +242,17 @@ void run_episode_queue(const Task& task, Controller& controller, std::size_t job
     };
     for (std::size_t l = 0; l < lanes; ++l) take_next_job(l);
 
-    // portable runs move every lane at once (move_lanes: the odometry with portable::sincos_lanes,
-    // the scalar function's bits; Arena::disc_overlaps_lanes: the contact test's common case);
-    // libm runs step each lane's episode alone
+    // portable runs move and sense every lane at once (move_lanes: the odometry with
+    // portable::sincos_lanes, the scalar function's bits; Arena::disc_overlaps_lanes: the contact
+    // test's common case; sense_lasers_lanes: the lasers); libm runs step each lane alone
     const bool portable = config.math == Math::portable;
     std::array<float, kInputs> inputs{};
     std::array<std::array<float, kOutputs>, 32> outputs{};
     std::array<std::uint8_t, 32> lane_of{};  // lane of each moved slot
     MoveLanes moves;
+    alignas(64) std::array<double, 32> reached_x{};
+    alignas(64) std::array<double, 32> reached_y{};
+    alignas(64) std::array<std::array<double, 32>, 3> lasers{};
     while (running != 0) {
         for (std::uint32_t bits = running; bits != 0; bits &= bits - 1) {
             const auto l = static_cast<std::size_t>(std::countr_zero(bits));
@@ -271,12 +278,22 @@ void run_episode_queue(const Task& task, Controller& controller, std::size_t job
             door_open |= static_cast<std::uint32_t>(episode.door_open()) << count;
             lane_of[count++] = static_cast<std::uint8_t>(l);
         }
-        std::uint32_t touches = 0;
         if (portable) {
             moves.count = count;
             move_lanes(moves);
-            touches =
+            const std::uint32_t touches =
                 task.arena().disc_overlaps_lanes(moves.next_x.data(), moves.next_y.data(), door_open, count);
+            for (std::size_t slot = 0; slot < count; ++slot) {
+                Episode& episode = *episodes[lane_of[slot]];
+                episode.move_to(Pose{moves.next_x[slot], moves.next_y[slot], moves.next_heading[slot]},
+                                CosSin{moves.next_cos[slot], moves.next_sin[slot]},
+                                ((touches >> slot) & 1u) != 0);
+                reached_x[slot] = episode.pose().x;  // a blocked move keeps the position
+                reached_y[slot] = episode.pose().y;
+            }
+            sense_lasers_lanes(task.arena(), reached_x.data(), reached_y.data(), moves.next_cos.data(),
+                               moves.next_sin.data(), door_open, count,
+                               {lasers[0].data(), lasers[1].data(), lasers[2].data()});
         }
         std::size_t slot = 0;
         for (std::uint32_t bits = running; bits != 0; bits &= bits - 1) {
@@ -285,9 +302,7 @@ void run_episode_queue(const Task& task, Controller& controller, std::size_t job
             Lane& lane = lane_state[l];
             if (portable) {
                 STEPSTONE_ASSERT(lane_of[slot] == l);
-                episode.act_after_move(Pose{moves.next_x[slot], moves.next_y[slot], moves.next_heading[slot]},
-                                       CosSin{moves.next_cos[slot], moves.next_sin[slot]},
-                                       ((touches >> slot) & 1u) != 0);
+                episode.end_move({lasers[0][slot], lasers[1][slot], lasers[2][slot]});
                 ++slot;
             } else {
                 episode.act_clamped(outputs[l].data());

@@ -321,12 +321,38 @@ SightTable::Cell SightTable::cell(double x, double y, bool door_open) const {
 // candidate walls
 void sense(const Arena& arena, const SightTable& sight, const Pose& pose, const WorldState& state,
            SensorReadings& out) {
+    const CosSin heading = cos_sin(pose.heading);
+    sense_lasers(arena, pose, heading.c, heading.s, state.door_open, out);
+    sense_lights(arena, sight, pose, state, out);
+}
+
+void sense_lasers_lanes(const Arena& arena, const double* x, const double* y, const double* c,
+                        const double* s, std::uint32_t door_open, std::size_t count,
+                        double* const (&out)[3]) {
+    STEPSTONE_ASSERT(count <= 32);
+    // sense_lasers()' directions, lane by lane
+    constexpr double kHalfRoot2 = 0.70710678118654752440;
+    alignas(64) double dx[3][32];
+    alignas(64) double dy[3][32];
+    for (std::size_t l = 0; l < count; ++l) {
+        dx[0][l] = (c[l] - s[l]) * kHalfRoot2;
+        dy[0][l] = (s[l] + c[l]) * kHalfRoot2;
+        dx[1][l] = (c[l] + s[l]) * kHalfRoot2;
+        dy[1][l] = (s[l] - c[l]) * kHalfRoot2;
+        dx[2][l] = c[l];
+        dy[2][l] = s[l];
+    }
+    arena.ray_distances_lanes(x, y, {dx[0], dx[1], dx[2]}, {dy[0], dy[1], dy[2]}, kLaserRange, door_open,
+                              count, out);
+}
+
+void sense_lights(const Arena& arena, const SightTable& sight, const Pose& pose, const WorldState& state,
+                  SensorReadings& out) {
     CosSinMemos& memos = current_memos();  // one thread-local read for the windows and the heading
     const Windows& windows = windows_for(memos);
     const CosSin heading = memos.heading.get(pose.heading, memos.portable);
     const double c = heading.c;
     const double s = heading.s;
-    sense_lasers(arena, pose, c, s, state.door_open, out);
 
     out.light = {};
     const std::uint32_t lit = state.lit & ((1u << sight.lights().size()) - 1u);

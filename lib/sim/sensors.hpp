@@ -115,6 +115,17 @@ private:
 void sense(const Arena& arena, const SightTable& sight, const Pose& pose, const WorldState& state,
            SensorReadings& out);
 
+/// The light sensors of sense() alone (`out.laser` is left as it is), for lanes whose lasers
+/// sense_lasers_lanes() read together.
+void sense_lights(const Arena& arena, const SightTable& sight, const Pose& pose, const WorldState& state,
+                  SensorReadings& out);
+
+/// The lasers of sense() for `count` (at most 32) poses at once: lane l at (x[l], y[l]) with
+/// its heading's cos c[l] and sin s[l], the door open where bit l of `door_open` is set;
+/// out[i][l] gets laser i's distance, the bits sense() gives (Arena::ray_distances_lanes).
+void sense_lasers_lanes(const Arena& arena, const double* x, const double* y, const double* c,
+                        const double* s, std::uint32_t door_open, std::size_t count, double* const (&out)[3]);
+
 /// Readings at `pose` with the fast geometry. Lasers are exact ray/box
 /// distances; a light sensor fires when a lit light of its colour lies strictly
 /// inside its window (bearing in (angle - kLightWindow/2, angle + kLightWindow/2))

@@ -1,6 +1,5 @@
-#include <catch2/catch.hpp>
-
 #include <bit>
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdint>
 
@@ -217,35 +216,37 @@ TEST_CASE("bumpers from the quarters' signs equal those from atan2 bearings", "[
 
 TEST_CASE("disc overlaps of many centres at once equal one at a time, each lane with its own door",
           "[sim][arena][fast][lanes]") {
-    const Arena arena;
-    stepstone::Rng rng(23);
-    long overlaps = 0;
-    long door_answers_differ = 0;  // centres where the door's state changes the answer
-    for (int round = 0; round < 4'000; ++round) {
-        const std::size_t count = 1 + static_cast<std::size_t>(rng.below(32));
-        double xs[32];
-        double ys[32];
-        const auto door_open = static_cast<std::uint32_t>(rng.below(1ull << 32));
-        for (std::size_t l = 0; l < count; ++l) {
-            // near a wall's box (the door's in a quarter of the lanes): inside, touching and clear of it
-            const auto walls = arena.walls();
-            const WallBox& box = l % 4 == 0 ? walls[static_cast<std::size_t>(arena.door_index())]
-                                            : walls[static_cast<std::size_t>(rng.below(walls.size()))];
-            xs[l] = rng.uniform(box.x0 - 30.0, box.x1 + 30.0);
-            ys[l] = rng.uniform(box.y0 - 30.0, box.y1 + 30.0);
+    with_each_kernel([] {
+        const Arena arena;
+        stepstone::Rng rng(23);
+        long overlaps = 0;
+        long door_answers_differ = 0;  // centres where the door's state changes the answer
+        for (int round = 0; round < 4'000; ++round) {
+            const std::size_t count = 1 + static_cast<std::size_t>(rng.below(32));
+            double xs[32];
+            double ys[32];
+            const auto door_open = static_cast<std::uint32_t>(rng.below(1ull << 32));
+            for (std::size_t l = 0; l < count; ++l) {
+                // near a wall's box (the door's in a quarter of the lanes): inside, touching and clear of it
+                const auto walls = arena.walls();
+                const WallBox& box = l % 4 == 0 ? walls[static_cast<std::size_t>(arena.door_index())]
+                                                : walls[static_cast<std::size_t>(rng.below(walls.size()))];
+                xs[l] = rng.uniform(box.x0 - 30.0, box.x1 + 30.0);
+                ys[l] = rng.uniform(box.y0 - 30.0, box.y1 + 30.0);
+            }
+            const std::uint32_t bits = arena.disc_overlaps_lanes(xs, ys, door_open, count);
+            for (std::size_t l = 0; l < count; ++l) {
+                const bool open = ((door_open >> l) & 1u) != 0;
+                const bool alone = arena.disc_overlaps(xs[l], ys[l], open);
+                REQUIRE(((bits >> l) & 1u) == (alone ? 1u : 0u));
+                overlaps += alone ? 1 : 0;
+                door_answers_differ += alone != arena.disc_overlaps(xs[l], ys[l], !open) ? 1 : 0;
+            }
+            REQUIRE((count == 32 || (bits >> count) == 0));  // no bit past the lanes
         }
-        const std::uint32_t bits = arena.disc_overlaps_lanes(xs, ys, door_open, count);
-        for (std::size_t l = 0; l < count; ++l) {
-            const bool open = ((door_open >> l) & 1u) != 0;
-            const bool alone = arena.disc_overlaps(xs[l], ys[l], open);
-            REQUIRE(((bits >> l) & 1u) == (alone ? 1u : 0u));
-            overlaps += alone ? 1 : 0;
-            door_answers_differ += alone != arena.disc_overlaps(xs[l], ys[l], !open) ? 1 : 0;
-        }
-        REQUIRE((count == 32 || (bits >> count) == 0));  // no bit past the lanes
-    }
-    CHECK(overlaps > 10'000);
-    CHECK(door_answers_differ > 1'000);
+        CHECK(overlaps > 10'000);
+        CHECK(door_answers_differ > 1'000);
+    });
 }
 
 TEST_CASE("moves of many lanes at once equal portable move_pose, bit for bit", "[sim][robot][fast][lanes]") {
@@ -294,4 +295,48 @@ TEST_CASE("moves of many lanes at once equal portable move_pose, bit for bit", "
     }
     CHECK(straight > 5'000);
     CHECK(wrapped > 1'000);
+}
+
+TEST_CASE("rays of many lanes at once read exactly what single rays read, each lane with its own door",
+          "[sim][arena][fast][lanes]") {
+    with_each_kernel([] {
+        const Arena arena;
+        stepstone::Rng rng(31);
+        long hits = 0;
+        for (int round = 0; round < 3'000; ++round) {
+            const std::size_t count = 1 + static_cast<std::size_t>(rng.below(32));
+            const auto door_open = static_cast<std::uint32_t>(rng.below(1ull << 32));
+            double xs[32];
+            double ys[32];
+            double dir_x[3][32];
+            double dir_y[3][32];
+            double distances[3][32];
+            for (std::size_t l = 0; l < count; ++l) {
+                xs[l] = rng.uniform(-20.0, 620.0);
+                ys[l] = rng.uniform(-20.0, 420.0);
+                for (std::size_t r = 0; r < 3; ++r) {
+                    // every fourth ray along an axis: the zero-component guard
+                    const double a =
+                        l % 4 == 0 ? static_cast<double>(rng.below(4)) * kPi / 2 : rng.uniform(-kPi, kPi);
+                    dir_x[r][l] = std::cos(a);
+                    dir_y[r][l] = std::sin(a);
+                    if (l % 4 == 0) (rng.bernoulli(0.5) ? dir_x : dir_y)[r][l] = 0.0;
+                }
+            }
+            arena.ray_distances_lanes(xs, ys, {dir_x[0], dir_x[1], dir_x[2]}, {dir_y[0], dir_y[1], dir_y[2]},
+                                      kLaserRange, door_open, count,
+                                      {distances[0], distances[1], distances[2]});
+            for (std::size_t l = 0; l < count; ++l) {
+                const bool open = ((door_open >> l) & 1u) != 0;
+                for (std::size_t r = 0; r < 3; ++r) {
+                    const double alone =
+                        arena.ray_distance(xs[l], ys[l], dir_x[r][l], dir_y[r][l], kLaserRange, open);
+                    REQUIRE(std::bit_cast<std::uint64_t>(distances[r][l]) ==
+                            std::bit_cast<std::uint64_t>(alone));
+                    hits += alone >= 0.0 ? 1 : 0;
+                }
+            }
+        }
+        CHECK(hits > 50'000);
+    });
 }

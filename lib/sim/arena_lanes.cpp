@@ -1,0 +1,256 @@
+// The arena's queries for lanes of episodes (sim::run_episode_queue): many
+// robots at once, one per vector lane, each with its own door, every lane's
+// arithmetic the single-robot query's. Each kernel is written once for a
+// vector of W floats (GCC's vector extension) and compiled twice: four lanes
+// a vector in the baseline build (SSE2), eight in an AVX2 function chosen
+// at run time as the other AVX2 kernels are (avx2_kernels()). Both give the
+// same bits: the same IEEE operations lane by lane, nothing contracted.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+
+#include "core/assert.hpp"
+#include "sim/arena.hpp"
+#include "sim/units.hpp"
+
+namespace stepstone::sim {
+
+namespace {
+
+// (one specialisation a width: GCC drops a vector_size that depends on a template argument)
+template <std::size_t W>
+struct Vectors;
+template <>
+struct Vectors<4> {
+    using Floats = float __attribute__((vector_size(16)));
+    using Ints = std::int32_t __attribute__((vector_size(16)));
+};
+template <>
+struct Vectors<8> {
+    using Floats = float __attribute__((vector_size(32)));
+    using Ints = std::int32_t __attribute__((vector_size(32)));
+};
+
+// where padding lanes stand: far from every wall (arena.cpp's empty slots are at +1e7)
+constexpr float kNowhere = -1e7f;
+
+// the walls as the kernels read them: each slot's box with the door closed, and the
+// door's slot's box when it is open
+struct Walls {
+    const float* x0;
+    const float* x1;
+    const float* y0;
+    const float* y1;
+    std::size_t door;
+    float open_door[4];  // x0, x1, y0, y1
+};
+
+template <class V>
+[[gnu::always_inline]] inline void load(V& vector, const void* from) {
+    std::memcpy(&vector, from, sizeof vector);
+}
+
+// slot k's box in every lane, the door's open box where `open` is set
+template <class Floats, class Ints>
+[[gnu::always_inline]] inline void box_of(const Walls& walls, std::size_t k, const Ints& open,
+                                          Floats (&box)[4]) {
+    const Floats zero = {};
+    box[0] = zero + walls.x0[k];
+    box[1] = zero + walls.x1[k];
+    box[2] = zero + walls.y0[k];
+    box[3] = zero + walls.y1[k];
+    if (k != walls.door) return;
+    for (std::size_t i = 0; i < 4; ++i) box[i] = open != 0 ? zero + walls.open_door[i] : box[i];
+}
+
+// Arena::disc_overlaps_lanes: near_slots()'s single-precision squared distance of each slot
+// in turn, the smallest kept; the disc overlaps a wall when it is below r2
+template <std::size_t W>
+[[gnu::always_inline]] inline std::uint32_t overlaps_kernel(const Walls& walls, std::size_t slots,
+                                                            const double* x, const double* y,
+                                                            std::uint32_t door_open, std::size_t count) {
+    using Floats = typename Vectors<W>::Floats;
+    using Ints = typename Vectors<W>::Ints;
+    const auto r2 = static_cast<float>(kRobotRadius * kRobotRadius);
+    std::uint32_t bits = 0;
+    for (std::size_t base = 0; base < count; base += W) {
+        alignas(32) float centre[2][W];
+        alignas(32) std::int32_t lane_open[W];
+        for (std::size_t i = 0; i < W; ++i) {
+            const bool lane = base + i < count;
+            centre[0][i] = lane ? static_cast<float>(x[base + i]) : kNowhere;
+            centre[1][i] = lane ? static_cast<float>(y[base + i]) : kNowhere;
+            lane_open[i] = lane && ((door_open >> (base + i)) & 1u) != 0 ? -1 : 0;
+        }
+        Floats cx;
+        Floats cy;
+        Ints open;
+        load(cx, centre[0]);
+        load(cy, centre[1]);
+        load(open, lane_open);
+        const Floats zero = {};
+        Floats d2_min = zero + r2;
+        for (std::size_t k = 0; k < slots; ++k) {
+            Floats box[4];
+            box_of(walls, k, open, box);
+            const Floats a = box[0] - cx;
+            const Floats b = cx - box[1];
+            const Floats c = box[2] - cy;
+            const Floats d = cy - box[3];
+            // std::max(std::max(a, b), 0.0f): (a < b ? b : a), then against 0 the same way
+            const Floats ab = a < b ? b : a;
+            const Floats cd = c < d ? d : c;
+            const Floats ex = ab < zero ? zero : ab;
+            const Floats ey = cd < zero ? zero : cd;
+            const Floats d2 = ex * ex + ey * ey;
+            d2_min = d2 < d2_min ? d2 : d2_min;
+        }
+        const Ints below = d2_min < r2;
+        alignas(32) std::int32_t lanes_below[W];
+        std::memcpy(lanes_below, &below, sizeof below);
+        for (std::size_t i = 0; i < W && base + i < count; ++i) {
+            bits |= static_cast<std::uint32_t>(lanes_below[i] != 0) << (base + i);
+        }
+    }
+    return bits;
+}
+
+// Arena::ray_distances_lanes: the slab test of ray_distances()' SSE kernel, slot after slot,
+// the nearest hit kept as ray_distance() keeps it (std::min(nearest, t) in slot order)
+template <std::size_t W>
+[[gnu::always_inline]] inline void rays_kernel(const Walls& walls, std::size_t slots, const double* x,
+                                               const double* y, const double* const (&dx)[3],
+                                               const double* const (&dy)[3], double range,
+                                               std::uint32_t door_open, std::size_t count,
+                                               double* const (&out)[3]) {
+    using Floats = typename Vectors<W>::Floats;
+    using Ints = typename Vectors<W>::Ints;
+    constexpr float kNone = 1e30f;
+    for (std::size_t base = 0; base < count; base += W) {
+        alignas(32) float origin[2][W];
+        alignas(32) std::int32_t lane_open[W];
+        alignas(32) float components[3][2][W];  // ray_distance()'s float components, guarded against 0
+        for (std::size_t i = 0; i < W; ++i) {
+            const std::size_t l = base + i < count ? base + i : base;  // padding repeats the first lane
+            origin[0][i] = static_cast<float>(x[l]);
+            origin[1][i] = static_cast<float>(y[l]);
+            lane_open[i] = ((door_open >> l) & 1u) != 0 ? -1 : 0;
+            for (std::size_t r = 0; r < 3; ++r) {
+                const double d[2] = {dx[r][l], dy[r][l]};
+                for (std::size_t a = 0; a < 2; ++a) {
+                    components[r][a][i] = std::fabs(d[a]) < 1e-30 ? 1e-30f : static_cast<float>(d[a]);
+                }
+            }
+        }
+        Floats ox;
+        Floats oy;
+        Ints open;
+        load(ox, origin[0]);
+        load(oy, origin[1]);
+        load(open, lane_open);
+        const Floats zero = {};
+        const Floats none = zero + kNone;
+        Floats inverse[3][2];
+        Floats nearest[3];
+        for (std::size_t r = 0; r < 3; ++r) {
+            for (std::size_t a = 0; a < 2; ++a) {
+                Floats component;
+                load(component, components[r][a]);
+                inverse[r][a] = (zero + 1.0f) / component;
+            }
+            nearest[r] = none;
+        }
+        for (std::size_t k = 0; k < slots; ++k) {
+            Floats box[4];
+            box_of(walls, k, open, box);
+            const Floats ax0 = box[0] - ox;
+            const Floats ax1 = box[1] - ox;
+            const Floats ay0 = box[2] - oy;
+            const Floats ay1 = box[3] - oy;
+            for (std::size_t r = 0; r < 3; ++r) {
+                const Floats rx = inverse[r][0];
+                const Floats ry = inverse[r][1];
+                const Ints x_up = rx > zero;
+                const Ints y_up = ry > zero;
+                const Floats near_x = x_up != 0 ? ax0 : ax1;
+                const Floats far_x = x_up != 0 ? ax1 : ax0;
+                const Floats near_y = y_up != 0 ? ay0 : ay1;
+                const Floats far_y = y_up != 0 ? ay1 : ay0;
+                // _mm_max_ps(a, b) is a > b ? a : b, _mm_min_ps(a, b) is a < b ? a : b
+                const Floats enter_y = near_y * ry;
+                const Floats enter_x = near_x * rx;
+                const Floats enter = enter_y > enter_x ? enter_y : enter_x;
+                const Floats leave_y = far_y * ry;
+                const Floats leave_x = far_x * rx;
+                const Floats leave = leave_y < leave_x ? leave_y : leave_x;
+                const Ints crossed = (enter <= leave) & (leave >= zero);
+                const Floats from = zero > enter ? zero : enter;
+                const Floats t = crossed != 0 ? from : none;
+                nearest[r] = t < nearest[r] ? t : nearest[r];
+            }
+        }
+        alignas(32) float distances[3][W];
+        std::memcpy(distances, nearest, sizeof distances);
+        for (std::size_t i = 0; i < W && base + i < count; ++i) {
+            for (std::size_t r = 0; r < 3; ++r) {
+                const auto distance = static_cast<double>(distances[r][i]);
+                out[r][base + i] = distance <= range ? distance : -1.0;
+            }
+        }
+    }
+}
+
+#if defined(__x86_64__) || defined(__i386__)
+#define STEPSTONE_SIM_HAVE_AVX2_LANES 1
+[[gnu::target("avx2")]] std::uint32_t overlaps_avx2(const Walls& walls, std::size_t slots, const double* x,
+                                                    const double* y, std::uint32_t door_open,
+                                                    std::size_t count) {
+    return overlaps_kernel<8>(walls, slots, x, y, door_open, count);
+}
+
+[[gnu::target("avx2")]] void rays_avx2(const Walls& walls, std::size_t slots, const double* x,
+                                       const double* y, const double* const (&dx)[3],
+                                       const double* const (&dy)[3], double range, std::uint32_t door_open,
+                                       std::size_t count, double* const (&out)[3]) {
+    rays_kernel<8>(walls, slots, x, y, dx, dy, range, door_open, count, out);
+}
+#endif
+
+}  // namespace
+
+std::uint32_t Arena::disc_overlaps_lanes(const double* x, const double* y, std::uint32_t door_open,
+                                         std::size_t count) const {
+    STEPSTONE_ASSERT(count <= 32);
+    const auto door = static_cast<std::size_t>(door_index_);
+    const Walls walls{closed_.x0.data(),
+                      closed_.x1.data(),
+                      closed_.y0.data(),
+                      closed_.y1.data(),
+                      door,
+                      {open_.x0[door], open_.x1[door], open_.y0[door], open_.y1[door]}};
+#ifdef STEPSTONE_SIM_HAVE_AVX2_LANES
+    if (avx2_kernels()) return overlaps_avx2(walls, kSlots, x, y, door_open, count);
+#endif
+    return overlaps_kernel<4>(walls, kSlots, x, y, door_open, count);
+}
+
+void Arena::ray_distances_lanes(const double* x, const double* y, const double* const (&dx)[3],
+                                const double* const (&dy)[3], double range, std::uint32_t door_open,
+                                std::size_t count, double* const (&out)[3]) const {
+    STEPSTONE_ASSERT(count <= 32);
+    const auto door = static_cast<std::size_t>(door_index_);
+    const Walls walls{closed_.x0.data(),
+                      closed_.x1.data(),
+                      closed_.y0.data(),
+                      closed_.y1.data(),
+                      door,
+                      {open_.x0[door], open_.x1[door], open_.y0[door], open_.y1[door]}};
+#ifdef STEPSTONE_SIM_HAVE_AVX2_LANES
+    if (avx2_kernels()) return rays_avx2(walls, kSlots, x, y, dx, dy, range, door_open, count, out);
+#endif
+    rays_kernel<4>(walls, kSlots, x, y, dx, dy, range, door_open, count, out);
+}
+
+}  // namespace stepstone::sim
