@@ -70,9 +70,9 @@ void Episode::read_inputs(float* inputs) const {
     fill_inputs(readings_, bumper_left_, bumper_right_, carrying_, inputs);
 }
 
-void Episode::act(float* outputs) {
+void Episode::act(float* outputs, const float* inputs) {
     clamp_outputs(outputs);
-    act_clamped(outputs);
+    act_clamped(outputs, inputs);
 }
 
 void Episode::clamp_outputs(float* outputs) {
@@ -86,17 +86,17 @@ void Episode::clamp_outputs(float* outputs) {
     }
 }
 
-void Episode::act_clamped(const float* outputs) {
+void Episode::act_clamped(const float* outputs, const float* inputs) {
     const CosSinMemoScope scope(memos_);
-    act_before_move(outputs);
+    act_before_move(outputs, inputs);
     const Pose before = pose_;
     move(outputs[0], outputs[1]);
     end_step(before);
 }
 
-void Episode::act_before_move(const float* outputs) {
+void Episode::act_before_move(const float* outputs, const float* inputs) {
     STEPSTONE_ASSERT(start_ >= 0 && !stopped_);
-    record(outputs);
+    record(inputs, outputs);
     apply_action(outputs[2]);
     milestones_.carry_steps += carrying_ ? 1 : 0;
 
@@ -139,14 +139,18 @@ void Episode::end_step(const Pose& before, const std::array<double, 3>* lasers) 
     ++steps_run_;
 }
 
-void Episode::record(const float* outputs) {
+void Episode::record(const float* inputs, const float* outputs) {
     if (recording_.trace != nullptr) {
         recording_.trace->push_back(PoseSample{start_, step_, pose_.x, pose_.y, pose_.heading});
     }
     if (start_ != 0) return;
     if (!recording_.behaviour.empty()) {
         float* row = recording_.behaviour.data() + rows_written_ * kChannels;
-        read_inputs(row);
+        if (inputs != nullptr) {
+            std::copy(inputs, inputs + kInputs, row);
+        } else {
+            read_inputs(row);
+        }
         std::copy(outputs, outputs + kOutputs, row + kInputs);
         ++rows_written_;
     }

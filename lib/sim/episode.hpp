@@ -98,12 +98,13 @@ public:
     /// Runs the rest of the step: replaces NaN outputs by 0 (counted) and
     /// clamps them to [0, 1] in place, records, applies the action at the
     /// current pose, ticks the switch timer, moves, applies the stand-still
-    /// rule and senses at the new pose.
-    void act(float* outputs);
+    /// rule and senses at the new pose. `inputs`, when given, are
+    /// read_inputs()' of this step: the recording copies them.
+    void act(float* outputs, const float* inputs = nullptr);
     /// act() in two halves, for lanes of episodes: the NaN replacement and
     /// the clamping, then the rest on the clamped outputs.
     void clamp_outputs(float* outputs);
-    void act_clamped(const float* outputs);
+    void act_clamped(const float* outputs, const float* inputs = nullptr);
     /// act_clamped() in three parts, for lanes that move and sense several episodes at once
     /// (portable runs, run_episode_queue): the recording, the action and the switch timer at
     /// the current pose; then the move to `next` (move_pose()'s answer, from move_lanes(),
@@ -111,7 +112,7 @@ public:
     /// whether the disc at `next` overlaps a wall, from Arena::disc_overlaps_lanes();
     /// contact() is none otherwise); then the stand-still rule and the sensing, the three
     /// laser distances at the pose reached given (from sense_lasers_lanes()).
-    void act_before_move(const float* outputs);
+    void act_before_move(const float* outputs, const float* inputs = nullptr);
     void move_to(const Pose& next, const CosSin& heading, bool touches);
     void end_move(const std::array<double, 3>& lasers);
     /// Ends the episode: pads the recording after an early stop, returns the result.
@@ -140,7 +141,7 @@ public:
     void set_carrying(bool carrying) { carrying_ = carrying; }
 
 private:
-    void record(const float* outputs);
+    void record(const float* inputs, const float* outputs);  // inputs: null, or read_inputs()'s
     void apply_action(float action);
     void move(float left_output, float right_output);
     void take_move(const Pose& next, const Contact& contact);
@@ -194,7 +195,7 @@ EpisodeResult run_episode(const Task& task, Controller& controller, const Record
             const Pose pose = episode.pose();
             if constexpr (requires { controller.observe_pose(pose); }) controller.observe_pose(pose);
             controller.step(inputs.data(), outputs.data());
-            episode.act(outputs.data());
+            episode.act(outputs.data(), inputs.data());
             observer(StepView{start, step, pose, inputs.data(), outputs.data(), episode.carrying(),
                               episode.balls(), episode.door_open(), episode.lit()});
             if (episode.stopped()) break;
@@ -246,7 +247,7 @@ void run_episode_queue(const Task& task, Controller& controller, std::size_t job
     // portable::sincos_lanes, the scalar function's bits; Arena::disc_overlaps_lanes: the contact
     // test's common case; sense_lasers_lanes: the lasers); libm runs step each lane alone
     const bool portable = config.math == Math::portable;
-    std::array<float, kInputs> inputs{};
+    std::array<std::array<float, kInputs>, 32> inputs{};
     std::array<std::array<float, kOutputs>, 32> outputs{};
     std::array<std::uint8_t, 32> lane_of{};  // lane of each moved slot
     MoveLanes moves;
@@ -256,8 +257,8 @@ void run_episode_queue(const Task& task, Controller& controller, std::size_t job
     while (running != 0) {
         for (std::uint32_t bits = running; bits != 0; bits &= bits - 1) {
             const auto l = static_cast<std::size_t>(std::countr_zero(bits));
-            episodes[l]->read_inputs(inputs.data());
-            controller.set_inputs(l, inputs.data());
+            episodes[l]->read_inputs(inputs[l].data());
+            controller.set_inputs(l, inputs[l].data());
         }
         controller.step();
         std::size_t count = 0;
@@ -268,7 +269,7 @@ void run_episode_queue(const Task& task, Controller& controller, std::size_t job
             Episode& episode = *episodes[l];
             episode.clamp_outputs(outputs[l].data());
             if (!portable) continue;
-            episode.act_before_move(outputs[l].data());
+            episode.act_before_move(outputs[l].data(), inputs[l].data());
             const Pose& pose = episode.pose();
             moves.x[count] = pose.x;
             moves.y[count] = pose.y;
@@ -305,7 +306,7 @@ void run_episode_queue(const Task& task, Controller& controller, std::size_t job
                 episode.end_move({lasers[0][slot], lasers[1][slot], lasers[2][slot]});
                 ++slot;
             } else {
-                episode.act_clamped(outputs[l].data());
+                episode.act_clamped(outputs[l].data(), inputs[l].data());
             }
             // run_episode's loops: the next step, else the next start, else the end
             bool ended = episode.stopped();
