@@ -47,6 +47,13 @@ struct Walls {
     float open_door[4];  // x0, x1, y0, y1
 };
 
+// the kernels' view of an arena's padded slots (Slots, private to Arena, deduced)
+template <class Slots>
+Walls walls_of(const Slots& closed, const Slots& open, std::size_t door) {
+    return {closed.x0.data(), closed.x1.data(), closed.y0.data(), closed.y1.data(), door,
+            {open.x0[door], open.x1[door], open.y0[door], open.y1[door]}};
+}
+
 template <class V>
 [[gnu::always_inline]] inline void load(V& vector, const void* from) {
     std::memcpy(&vector, from, sizeof vector);
@@ -223,13 +230,7 @@ template <std::size_t W>
 std::uint32_t Arena::disc_overlaps_lanes(const double* x, const double* y, std::uint32_t door_open,
                                          std::size_t count) const {
     STEPSTONE_ASSERT(count <= 32);
-    const auto door = static_cast<std::size_t>(door_index_);
-    const Walls walls{closed_.x0.data(),
-                      closed_.x1.data(),
-                      closed_.y0.data(),
-                      closed_.y1.data(),
-                      door,
-                      {open_.x0[door], open_.x1[door], open_.y0[door], open_.y1[door]}};
+    const Walls walls = walls_of(closed_, open_, static_cast<std::size_t>(door_index_));
 #ifdef STEPSTONE_SIM_HAVE_AVX2_LANES
     if (avx2_kernels()) return overlaps_avx2(walls, kSlots, x, y, door_open, count);
 #endif
@@ -240,13 +241,7 @@ void Arena::ray_distances_lanes(const double* x, const double* y, const double* 
                                 const double* const (&dy)[3], double range, std::uint32_t door_open,
                                 std::size_t count, double* const (&out)[3]) const {
     STEPSTONE_ASSERT(count <= 32);
-    const auto door = static_cast<std::size_t>(door_index_);
-    const Walls walls{closed_.x0.data(),
-                      closed_.x1.data(),
-                      closed_.y0.data(),
-                      closed_.y1.data(),
-                      door,
-                      {open_.x0[door], open_.x1[door], open_.y0[door], open_.y1[door]}};
+    const Walls walls = walls_of(closed_, open_, static_cast<std::size_t>(door_index_));
 #ifdef STEPSTONE_SIM_HAVE_AVX2_LANES
     if (avx2_kernels()) return rays_avx2(walls, kSlots, x, y, dx, dy, range, door_open, count, out);
 #endif
