@@ -50,7 +50,11 @@ struct Walls {
 // the kernels' view of an arena's padded slots (Slots, private to Arena, deduced)
 template <class Slots>
 Walls walls_of(const Slots& closed, const Slots& open, std::size_t door) {
-    return {closed.x0.data(), closed.x1.data(), closed.y0.data(), closed.y1.data(), door,
+    return {closed.x0.data(),
+            closed.x1.data(),
+            closed.y0.data(),
+            closed.y1.data(),
+            door,
             {open.x0[door], open.x1[door], open.y0[door], open.y1[door]}};
 }
 
