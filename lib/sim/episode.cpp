@@ -174,11 +174,19 @@ void Episode::apply_action(float action) {
     }
     if (carrying_) return;
 
-    // grab: the first lit ball within reach, else the switch
+    // grab: the first lit ball within reach, else the switch. The lights are visited in index
+    // order, each lit one as the state stands when it is reached (a press lights the spawned
+    // ball); basket lights cannot be grabbed and are skipped.
     const auto lights = task_->lights();
-    for (std::size_t i = 0; i < lights.size(); ++i) {
+    const auto& kinds = task_->sight().kinds();
+    const std::uint32_t grabbable =
+        kinds[static_cast<std::size_t>(LightKind::ball)] | kinds[static_cast<std::size_t>(LightKind::switch_light)];
+    std::uint32_t after = ~0u;  // the lights not visited yet
+    for (std::uint32_t rest = state_.lit & grabbable; rest != 0; rest = state_.lit & grabbable & after) {
+        const auto i = static_cast<std::size_t>(std::countr_zero(rest));
         const std::uint32_t bit = 1u << i;
-        if ((state_.lit & bit) == 0 || !closer_than(pose_, lights[i], kReach)) continue;
+        after = ~((bit << 1) - 1u);
+        if (!closer_than(pose_, lights[i], kReach)) continue;
         if (lights[i].kind == LightKind::ball) {
             carrying_ = true;
             state_.lit &= ~bit;
