@@ -472,7 +472,7 @@ unsigned bumpers_by_quarters(const WallBox& box, const Pose& pose, double c, dou
 }  // namespace
 
 template <bool kByAngles>
-Contact Arena::bumpers(const Pose& pose, bool door_open, std::uint32_t near) const {
+unsigned Arena::bumpers(const Pose& pose, bool door_open, std::uint32_t near) const {
     unsigned sides = 0;
     const double r2 = kRobotRadius * kRobotRadius;
     // the walls the exact test below can find within the radius: those the
@@ -506,24 +506,23 @@ Contact Arena::bumpers(const Pose& pose, bool door_open, std::uint32_t near) con
         if ((wall_sides & kSure) == 0) wall_sides = bumpers_by_angles(box, pose, px, py);
         sides |= wall_sides & (kLeft | kRight);
     }
-    Contact result;
-    result.hit = true;
-    result.left = (sides & kLeft) != 0;
-    result.right = (sides & kRight) != 0;
-    return result;
+    return sides;
 }
 
 // the common case, no overlap, returns before any of the bumpers' work
 Contact Arena::contact(const Pose& pose, bool door_open) const {
     const Near near = near_slots(pose.x, pose.y, door_open);
     if (near.overlap == 0) return Contact{};
-    return bumpers<false>(pose, door_open, near.near);
+    // the bumpers' bits become bools here, where the caller can keep them in registers
+    const unsigned sides = bumpers<false>(pose, door_open, near.near);
+    return Contact{true, (sides & kLeft) != 0, (sides & kRight) != 0};
 }
 
 Contact Arena::contact_by_angles(const Pose& pose, bool door_open) const {
     const Near near = near_slots(pose.x, pose.y, door_open);
     if (near.overlap == 0) return Contact{};
-    return bumpers<true>(pose, door_open, near.near);
+    const unsigned sides = bumpers<true>(pose, door_open, near.near);
+    return Contact{true, (sides & kLeft) != 0, (sides & kRight) != 0};
 }
 
 }  // namespace stepstone::sim

@@ -94,9 +94,9 @@ private:
         std::uint32_t near;
     };
     Near near_slots(double x, double y, bool door_open) const;
-    // contact() once the disc overlaps a wall; `near` as near_slots() gives it
+    // contact()'s bumper bits (kLeft, kRight) once the disc overlaps a wall; `near` as near_slots() gives it
     template <bool kByAngles>
-    [[gnu::noinline]] Contact bumpers(const Pose& pose, bool door_open, std::uint32_t near) const;
+    [[gnu::noinline]] unsigned bumpers(const Pose& pose, bool door_open, std::uint32_t near) const;
 
     std::array<WallBox, kSlots> walls_{};
     int wall_count_ = 0;
