@@ -4,7 +4,6 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
-#include <type_traits>
 
 #include "core/portable_math_lanes.hpp"
 #include "sim/cos_sin.hpp"
