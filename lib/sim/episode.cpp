@@ -181,12 +181,22 @@ void Episode::apply_action(float action) {
     const auto& kinds = task_->sight().kinds();
     const std::uint32_t grabbable =
         kinds[static_cast<std::size_t>(LightKind::ball)] | kinds[static_cast<std::size_t>(LightKind::switch_light)];
+    if ((state_.lit & grabbable) == 0) return;
+    // The reach test first, for every lit grabbable light and the ball a press may light: the
+    // tests do not depend on one another, so they overlap, and the visit below, in index
+    // order, sees only the lights within reach (on most steps none).
+    const int spawn = task_->spawn_ball_index();
+    const std::uint32_t candidates = (state_.lit | (spawn >= 0 ? 1u << spawn : 0u)) & grabbable;
+    std::uint32_t reach = 0;
+    for (std::uint32_t rest = candidates; rest != 0; rest &= rest - 1) {
+        const auto i = static_cast<std::size_t>(std::countr_zero(rest));
+        reach |= static_cast<std::uint32_t>(closer_than(pose_, lights[i], kReach)) << i;
+    }
     std::uint32_t after = ~0u;  // the lights not visited yet
-    for (std::uint32_t rest = state_.lit & grabbable; rest != 0; rest = state_.lit & grabbable & after) {
+    for (std::uint32_t rest = state_.lit & reach; rest != 0; rest = state_.lit & reach & after) {
         const auto i = static_cast<std::size_t>(std::countr_zero(rest));
         const std::uint32_t bit = 1u << i;
         after = ~((bit << 1) - 1u);
-        if (!closer_than(pose_, lights[i], kReach)) continue;
         if (lights[i].kind == LightKind::ball) {
             carrying_ = true;
             state_.lit &= ~bit;
@@ -196,8 +206,8 @@ void Episode::apply_action(float action) {
         if (lights[i].kind == LightKind::switch_light) {
             state_.lit &= ~bit;
             ++milestones_.presses;
-            if (task_->spawn_ball_index() >= 0) {
-                state_.lit |= 1u << task_->spawn_ball_index();
+            if (spawn >= 0) {
+                state_.lit |= 1u << spawn;
                 switch_timer_ = kSwitchRearmSteps;
             } else {
                 state_.door_open = true;

@@ -157,6 +157,10 @@ TEST_CASE("a grab picks a lit ball within 20 units and switches its light off", 
     episode.set_pose({296.25, 71.125, 0.0});
     act(episode, 0.0f, 1.0f, 1.0f);
     CHECK_FALSE(episode.carrying());
+    // exactly 20 away (20^2 = 400 with no rounding): reach is strictly closer than 20
+    episode.set_pose({296.25, 70.625, 0.0});
+    act(episode, 0.0f, 1.0f, 1.0f);
+    CHECK_FALSE(episode.carrying());
     episode.set_pose({296.25, 69.625, 0.0});  // 19 away
     act(episode, 0.0f, 1.0f, 1.0f);
     CHECK(episode.carrying());
