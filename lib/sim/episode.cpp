@@ -182,11 +182,13 @@ void Episode::apply_action(float action) {
     const std::uint32_t grabbable =
         kinds[static_cast<std::size_t>(LightKind::ball)] | kinds[static_cast<std::size_t>(LightKind::switch_light)];
     if ((state_.lit & grabbable) == 0) return;
-    // The reach test first, for every lit grabbable light and the ball a press may light: the
-    // tests do not depend on one another, so they overlap, and the visit below, in index
-    // order, sees only the lights within reach (on most steps none).
+    // The reach test first, for the lit grabbable lights and the ball a press may light that
+    // the sight table's cell puts near (on most steps none): the tests do not depend on one
+    // another, so they overlap, and the visit below, in index order, sees only the lights
+    // within reach.
     const int spawn = task_->spawn_ball_index();
-    const std::uint32_t candidates = (state_.lit | (spawn >= 0 ? 1u << spawn : 0u)) & grabbable;
+    const std::uint32_t candidates = (state_.lit | (spawn >= 0 ? 1u << spawn : 0u)) & grabbable &
+                                     task_->sight().reach_candidates(pose_.x, pose_.y);
     std::uint32_t reach = 0;
     for (std::uint32_t rest = candidates; rest != 0; rest &= rest - 1) {
         const auto i = static_cast<std::size_t>(std::countr_zero(rest));

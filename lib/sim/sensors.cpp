@@ -256,9 +256,20 @@ SightTable::SightTable(const Arena& arena, std::span<const Light> lights) : ligh
     masks_.assign((kCells + 1) * kMaxLights, 0);
     summaries_.assign(kCells + 1, Summary{});
     std::fill(masks_.begin() + static_cast<std::ptrdiff_t>(kCells * kMaxLights), masks_.end(), std::uint16_t{0xffff});
+    reach_.assign(kCells, 0);
     for (std::size_t l = 0; l < lights_.size(); ++l) {
         for (int row = 0; row < kRows; ++row) {
             for (int column = 0; column < kColumns; ++column) {
+                // the reach disc against the cell grown by a unit: the squared distance from the
+                // light to the grown cell's closest point, with a unit's slack on the radius too
+                const double px = std::clamp(lights_[l].x, column * kCell - 1.0, (column + 1) * kCell + 1.0);
+                const double py = std::clamp(lights_[l].y, row * kCell - 1.0, (row + 1) * kCell + 1.0);
+                const double dx = px - lights_[l].x;
+                const double dy = py - lights_[l].y;
+                if (dx * dx + dy * dy < (kReach + 1.0) * (kReach + 1.0)) {
+                    reach_[static_cast<std::size_t>(row) * kColumns + static_cast<std::size_t>(column)] |=
+                        1u << l;
+                }
                 std::uint16_t mask = 0;
                 for (std::size_t w = 0; w < walls.size(); ++w) {
                     if (hull_meets(lights_[l], column * kCell, row * kCell, (column + 1) * kCell, (row + 1) * kCell,

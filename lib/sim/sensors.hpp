@@ -88,6 +88,17 @@ public:
     /// the grid, every wall and no clear or hidden light.
     Cell cell(double x, double y, bool door_open) const;
 
+    /// Lights that may lie closer than kReach to (x, y): a superset, from the cell of (x, y)
+    /// (each light whose reach disc meets the cell grown by a unit, so the cell found by a
+    /// product instead of a quotient is as good); every light off the grid.
+    std::uint32_t reach_candidates(double x, double y) const {
+        const double column = x * (1.0 / kCell);
+        const double row = y * (1.0 / kCell);
+        if (!(column >= 0.0 && column < kColumns && row >= 0.0 && row < kRows)) return ~0u;
+        return reach_[static_cast<std::size_t>(static_cast<int>(row)) * kColumns +
+                      static_cast<std::size_t>(static_cast<int>(column))];
+    }
+
     /// Light coordinates, padded to kMaxLights.
     const std::array<double, kMaxLights>& xs() const { return xs_; }
     const std::array<double, kMaxLights>& ys() const { return ys_; }
@@ -108,6 +119,7 @@ private:
         std::uint32_t hidden_by_door = 0;   // by the closed door
     };
     std::vector<Summary> summaries_;  // [row][column], then off the grid
+    std::vector<std::uint32_t> reach_;  // [row][column]: reach_candidates()
 };
 
 /// Readings at `pose` with the fast geometry and precomputed sight lines;

@@ -117,6 +117,56 @@ TEST_CASE("sight-table cells: clear lights are never blocked, hidden lights alwa
     }
 }
 
+TEST_CASE("sight-table reach candidates hold every light within reach", "[sim][sensors][fast]") {
+    for (const TaskKind kind : {TaskKind::source, TaskKind::target}) {
+        TaskConfig config;
+        config.kind = kind;
+        const auto task = make_task(config);
+        const SightTable& sight = task->sight();
+        const auto lights = sight.lights();
+        stepstone::Rng rng(12);
+        int within = 0;
+        int filtered = 0;
+        const auto check = [&](double x, double y) {
+            const std::uint32_t candidates = sight.reach_candidates(x, y);
+            for (std::size_t l = 0; l < lights.size(); ++l) {
+                const double dx = x - lights[l].x;
+                const double dy = y - lights[l].y;
+                if (dx * dx + dy * dy < kReach * kReach) {
+                    ++within;
+                    REQUIRE(((candidates >> l) & 1u) != 0);
+                } else if (((candidates >> l) & 1u) == 0) {
+                    ++filtered;
+                }
+            }
+        };
+        for (const Light& light : lights) {
+            for (int i = 0; i < 20'000; ++i) {
+                // around the light, often exactly on a cell's edge or just below it
+                double x = light.x + rng.uniform(-21.0, 21.0);
+                double y = light.y + rng.uniform(-21.0, 21.0);
+                if (rng.bernoulli(0.3)) x = std::round(x / SightTable::kCell) * SightTable::kCell;
+                if (rng.bernoulli(0.3))
+                    y = std::nextafter(std::round(y / SightTable::kCell) * SightTable::kCell, 0.0);
+                check(x, y);
+            }
+        }
+        for (const double x : {-5.0, 0.0, 599.999, 600.0, 700.0}) check(x, 20.0);
+        CHECK(sight.reach_candidates(-1.0, 50.0) == ~0u);
+        CHECK(within > 10'000);
+        CHECK(filtered > 10'000);
+        // and it is a filter: at a point drawn anywhere in the arena, few lights are candidates
+        // (a light's candidate cells cover some 3,000 of the 240,000 square units)
+        int candidates = 0;
+        for (int i = 0; i < 10'000; ++i) {
+            const std::uint32_t all = (1u << lights.size()) - 1u;
+            candidates +=
+                std::popcount(sight.reach_candidates(rng.uniform(0.0, 600.0), rng.uniform(0.0, 400.0)) & all);
+        }
+        CHECK(candidates < 10'000 / 2);
+    }
+}
+
 TEST_CASE("the heading memo gives std::cos and std::sin bit for bit", "[sim][robot][fast]") {
     stepstone::Rng rng(3);
     for (int i = 0; i < 10'000; ++i) {
