@@ -24,10 +24,8 @@ namespace {
 // an empty slot: a box far away that no ray, segment or disc can reach
 constexpr double kFar = 1e7;
 
-// squared distance added to the radius's square for the walls contact()
-// examines in double precision; single-precision distances of points within
-// kNearRange of the origin are off by far less
-constexpr float kNearMargin = 1.0f;
+// single-precision distances of points within kNearRange of the origin are off
+// by far less than kNearMargin (arena.hpp)
 constexpr double kNearRange = 1e4;
 
 // bit k set when values[k] < limit
@@ -518,6 +516,10 @@ Contact Arena::contact(const Pose& pose, bool door_open) const {
     return Contact{true, (sides & kLeft) != 0, (sides & kRight) != 0};
 }
 
+Contact Arena::contact_of_overlap(const Pose& pose, bool door_open, std::uint32_t near) const {
+    const unsigned sides = bumpers<false>(pose, door_open, near);
+    return Contact{true, (sides & kLeft) != 0, (sides & kRight) != 0};
+}
 Contact Arena::contact_by_angles(const Pose& pose, bool door_open) const {
     const Near near = near_slots(pose.x, pose.y, door_open);
     if (near.overlap == 0) return Contact{};

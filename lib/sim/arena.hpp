@@ -65,9 +65,10 @@ public:
     bool disc_overlaps(double x, double y, bool door_open) const;
     /// disc_overlaps() of `count` (at most 32) centres at once: bit l is set when the disc at
     /// (x[l], y[l]) overlaps a wall, the door a wall unless bit l of `door_open` is set. The
-    /// same single-precision test, one slot after the other across the centres.
+    /// same single-precision test, one slot after the other across the centres. `near`, when
+    /// given, gets `count` masks: the slots near lane l's disc, for contact_of_overlap().
     std::uint32_t disc_overlaps_lanes(const double* x, const double* y, std::uint32_t door_open,
-                                      std::size_t count) const;
+                                      std::size_t count, std::uint32_t* near = nullptr) const;
     /// ray_distance() of three rays from each of `count` (at most 32) points at once: ray r of
     /// lane l starts at (x[l], y[l]) with the unit direction (dx[r][l], dy[r][l]), the door a
     /// wall unless bit l of `door_open` is set; out[r][l] gets ray_distance()'s bits.
@@ -77,12 +78,18 @@ public:
     /// Overlap test plus the bumpers: the bearing range, relative to the pose's
     /// heading, of each overlap region between the disc and a wall.
     Contact contact(const Pose& pose, bool door_open) const;
+    /// contact() of a disc that overlaps a wall, `near` its mask from disc_overlaps_lanes(): the
+    /// same answer without testing the overlap again.
+    Contact contact_of_overlap(const Pose& pose, bool door_open, std::uint32_t near) const;
     /// contact() with every bearing from atan2, as first written; contact()
     /// decides most bumpers from signs of products instead, with the same
     /// answer (tests compare the two).
     Contact contact_by_angles(const Pose& pose, bool door_open) const;
 
 private:
+    // squared distance added to the radius's square for the walls the bumpers examine in
+    // double precision
+    static constexpr float kNearMargin = 1.0f;
     // single precision: four slots per SSE register; errors stay near 1e-4 units
     struct Slots {
         alignas(64) std::array<float, kSlots> x0, y0, x1, y1;

@@ -77,14 +77,17 @@ template <class Floats, class Ints>
 }
 
 // Arena::disc_overlaps_lanes: near_slots()'s single-precision squared distance of each slot
-// in turn, the smallest kept; the disc overlaps a wall when it is below r2
+// in turn, the smallest kept; the disc overlaps a wall when it is below r2. near[l] gets the
+// slots (bit k) whose distance is below r2 + margin, near_slots()' `near`.
 template <std::size_t W>
 [[gnu::always_inline]] inline std::uint32_t overlaps_kernel(const Walls& walls, std::size_t slots,
                                                             const double* x, const double* y,
-                                                            std::uint32_t door_open, std::size_t count) {
+                                                            std::uint32_t door_open, std::size_t count,
+                                                            float margin, std::uint32_t* near) {
     using Floats = typename Vectors<W>::Floats;
     using Ints = typename Vectors<W>::Ints;
     const auto r2 = static_cast<float>(kRobotRadius * kRobotRadius);
+    const float r2_near = r2 + margin;
     std::uint32_t bits = 0;
     for (std::size_t base = 0; base < count; base += W) {
         alignas(32) float centre[2][W];
@@ -103,6 +106,7 @@ template <std::size_t W>
         load(open, lane_open);
         const Floats zero = {};
         Floats d2_min = zero + r2;
+        Ints near_bits = {};
         for (std::size_t k = 0; k < slots; ++k) {
             Floats box[4];
             box_of(walls, k, open, box);
@@ -117,12 +121,16 @@ template <std::size_t W>
             const Floats ey = cd < zero ? zero : cd;
             const Floats d2 = ex * ex + ey * ey;
             d2_min = d2 < d2_min ? d2 : d2_min;
+            near_bits |= (d2 < r2_near) & static_cast<std::int32_t>(1u << k);
         }
         const Ints below = d2_min < r2;
         alignas(32) std::int32_t lanes_below[W];
+        alignas(32) std::int32_t lanes_near[W];
         std::memcpy(lanes_below, &below, sizeof below);
+        std::memcpy(lanes_near, &near_bits, sizeof near_bits);
         for (std::size_t i = 0; i < W && base + i < count; ++i) {
             bits |= static_cast<std::uint32_t>(lanes_below[i] != 0) << (base + i);
+            near[base + i] = static_cast<std::uint32_t>(lanes_near[i]);
         }
     }
     return bits;
@@ -217,8 +225,8 @@ template <std::size_t W>
 #define STEPSTONE_SIM_HAVE_AVX2_LANES 1
 [[gnu::target("avx2")]] std::uint32_t overlaps_avx2(const Walls& walls, std::size_t slots, const double* x,
                                                     const double* y, std::uint32_t door_open,
-                                                    std::size_t count) {
-    return overlaps_kernel<8>(walls, slots, x, y, door_open, count);
+                                                    std::size_t count, float margin, std::uint32_t* near) {
+    return overlaps_kernel<8>(walls, slots, x, y, door_open, count, margin, near);
 }
 
 [[gnu::target("avx2")]] void rays_avx2(const Walls& walls, std::size_t slots, const double* x,
@@ -232,13 +240,15 @@ template <std::size_t W>
 }  // namespace
 
 std::uint32_t Arena::disc_overlaps_lanes(const double* x, const double* y, std::uint32_t door_open,
-                                         std::size_t count) const {
+                                         std::size_t count, std::uint32_t* near) const {
     STEPSTONE_ASSERT(count <= 32);
     const Walls walls = walls_of(closed_, open_, static_cast<std::size_t>(door_index_));
+    std::uint32_t ignored[32];
+    if (near == nullptr) near = ignored;
 #ifdef STEPSTONE_SIM_HAVE_AVX2_LANES
-    if (avx2_kernels()) return overlaps_avx2(walls, kSlots, x, y, door_open, count);
+    if (avx2_kernels()) return overlaps_avx2(walls, kSlots, x, y, door_open, count, kNearMargin, near);
 #endif
-    return overlaps_kernel<4>(walls, kSlots, x, y, door_open, count);
+    return overlaps_kernel<4>(walls, kSlots, x, y, door_open, count, kNearMargin, near);
 }
 
 void Arena::ray_distances_lanes(const double* x, const double* y, const double* const (&dx)[3],

@@ -110,14 +110,14 @@ void Episode::act_before_move(const float* outputs, const float* inputs) {
     }
 }
 
-void Episode::move_to(const Pose& next, const CosSin& heading, bool touches) {
+void Episode::move_to(const Pose& next, const CosSin& heading, bool touches, std::uint32_t near) {
     STEPSTONE_ASSERT(start_ >= 0 && !stopped_);
     const CosSinMemoScope scope(memos_);
     // the bumpers and the sensors take the new heading's cos and sin from the memo
     memos_.heading.bits = std::bit_cast<std::uint64_t>(next.heading);
     memos_.heading.value = heading;
     before_ = pose_;
-    take_move(next, touches ? task_->arena().contact(next, state_.door_open) : Contact{});
+    take_move(next, touches ? task_->arena().contact_of_overlap(next, state_.door_open, near) : Contact{});
 }
 
 void Episode::end_move(const std::array<double, 3>& lasers) {

@@ -109,11 +109,12 @@ public:
     /// (portable runs, run_episode_queue): the recording, the action and the switch timer at
     /// the current pose; then the move to `next` (move_pose()'s answer, from move_lanes(),
     /// with `heading` the cos and sin of next.heading) and the contact test (`touches`:
-    /// whether the disc at `next` overlaps a wall, from Arena::disc_overlaps_lanes();
-    /// contact() is none otherwise); then the stand-still rule and the sensing, the three
+    /// whether the disc at `next` overlaps a wall, and `near` its walls near the disc, from
+    /// Arena::disc_overlaps_lanes(); contact() is none otherwise); then the stand-still
+    /// rule and the sensing, the three
     /// laser distances at the pose reached given (from sense_lasers_lanes()).
     void act_before_move(const float* outputs, const float* inputs = nullptr);
-    void move_to(const Pose& next, const CosSin& heading, bool touches);
+    void move_to(const Pose& next, const CosSin& heading, bool touches, std::uint32_t near);
     void end_move(const std::array<double, 3>& lasers);
     /// Ends the episode: pads the recording after an early stop, returns the result.
     EpisodeResult finish();
@@ -254,6 +255,7 @@ void run_episode_queue(const Task& task, Controller& controller, std::size_t job
     alignas(64) std::array<double, 32> reached_x{};
     alignas(64) std::array<double, 32> reached_y{};
     alignas(64) std::array<std::array<double, 32>, 3> lasers{};
+    std::array<std::uint32_t, 32> near{};  // each moved slot's walls near its disc
     while (running != 0) {
         for (std::uint32_t bits = running; bits != 0; bits &= bits - 1) {
             const auto l = static_cast<std::size_t>(std::countr_zero(bits));
@@ -282,13 +284,13 @@ void run_episode_queue(const Task& task, Controller& controller, std::size_t job
         if (portable) {
             moves.count = count;
             move_lanes(moves);
-            const std::uint32_t touches =
-                task.arena().disc_overlaps_lanes(moves.next_x.data(), moves.next_y.data(), door_open, count);
+            const std::uint32_t touches = task.arena().disc_overlaps_lanes(
+                moves.next_x.data(), moves.next_y.data(), door_open, count, near.data());
             for (std::size_t slot = 0; slot < count; ++slot) {
                 Episode& episode = *episodes[lane_of[slot]];
                 episode.move_to(Pose{moves.next_x[slot], moves.next_y[slot], moves.next_heading[slot]},
                                 CosSin{moves.next_cos[slot], moves.next_sin[slot]},
-                                ((touches >> slot) & 1u) != 0);
+                                ((touches >> slot) & 1u) != 0, near[slot]);
                 reached_x[slot] = episode.pose().x;  // a blocked move keeps the position
                 reached_y[slot] = episode.pose().y;
             }

@@ -271,6 +271,7 @@ TEST_CASE("disc overlaps of many centres at once equal one at a time, each lane 
         stepstone::Rng rng(23);
         long overlaps = 0;
         long door_answers_differ = 0;  // centres where the door's state changes the answer
+        long bumpers = 0;
         for (int round = 0; round < 4'000; ++round) {
             const std::size_t count = 1 + static_cast<std::size_t>(rng.below(32));
             double xs[32];
@@ -284,11 +285,23 @@ TEST_CASE("disc overlaps of many centres at once equal one at a time, each lane 
                 xs[l] = rng.uniform(box.x0 - 30.0, box.x1 + 30.0);
                 ys[l] = rng.uniform(box.y0 - 30.0, box.y1 + 30.0);
             }
-            const std::uint32_t bits = arena.disc_overlaps_lanes(xs, ys, door_open, count);
+            std::uint32_t near[32];
+            const std::uint32_t bits = arena.disc_overlaps_lanes(xs, ys, door_open, count, near);
+            REQUIRE(bits == arena.disc_overlaps_lanes(xs, ys, door_open, count));
             for (std::size_t l = 0; l < count; ++l) {
                 const bool open = ((door_open >> l) & 1u) != 0;
                 const bool alone = arena.disc_overlaps(xs[l], ys[l], open);
                 REQUIRE(((bits >> l) & 1u) == (alone ? 1u : 0u));
+                if (alone) {
+                    // the bumpers from the lanes' near walls are contact()'s
+                    const Pose pose{xs[l], ys[l], rng.uniform(-kPi, kPi)};
+                    const Contact exact = arena.contact(pose, open);
+                    const Contact lanes = arena.contact_of_overlap(pose, open, near[l]);
+                    REQUIRE(lanes.hit);
+                    REQUIRE(lanes.left == exact.left);
+                    REQUIRE(lanes.right == exact.right);
+                    bumpers += (exact.left ? 1 : 0) + (exact.right ? 1 : 0);
+                }
                 overlaps += alone ? 1 : 0;
                 door_answers_differ += alone != arena.disc_overlaps(xs[l], ys[l], !open) ? 1 : 0;
             }
@@ -296,6 +309,7 @@ TEST_CASE("disc overlaps of many centres at once equal one at a time, each lane 
         }
         CHECK(overlaps > 10'000);
         CHECK(door_answers_differ > 1'000);
+        CHECK(bumpers > 5'000);
     });
 }
 
