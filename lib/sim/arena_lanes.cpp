@@ -13,6 +13,7 @@
 
 #include "core/assert.hpp"
 #include "sim/arena.hpp"
+#include "sim/lane_load.hpp"
 #include "sim/units.hpp"
 
 namespace stepstone::sim {
@@ -58,10 +59,7 @@ Walls walls_of(const Slots& closed, const Slots& open, std::size_t door) {
             {open.x0[door], open.x1[door], open.y0[door], open.y1[door]}};
 }
 
-template <class V>
-[[gnu::always_inline]] inline void load(V& vector, const void* from) {
-    std::memcpy(&vector, from, sizeof vector);
-}
+using lanes::load;
 
 // slot k's box in every lane, the door's open box where `open` is set
 template <class Floats, class Ints>

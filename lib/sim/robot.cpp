@@ -7,6 +7,7 @@
 
 #include "core/portable_math_lanes.hpp"
 #include "sim/cos_sin.hpp"
+#include "sim/lane_load.hpp"
 #include "sim/units.hpp"
 
 namespace stepstone::sim {
@@ -45,11 +46,7 @@ Pose move_arc(const Pose& pose, double left, double alpha, CosSinMemos& memos) {
     return next;
 }
 
-// a vector's lanes from memory (by reference: no vector crosses a call in the baseline build)
-template <class Vector, class T>
-[[gnu::always_inline]] inline void load(Vector& vector, const T* from) {
-    std::memcpy(&vector, from, sizeof vector);
-}
+using lanes::load;
 
 }  // namespace
 
