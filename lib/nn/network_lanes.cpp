@@ -166,11 +166,6 @@ void NetworkLanes::reset(std::size_t lane) {
     for (std::size_t r = 0; r < rows_; ++r) states_[r * kLanes + lane] = 0.0f;
 }
 
-void NetworkLanes::set_inputs(std::size_t lane, const float* inputs) {
-    STEPSTONE_ASSERT(lane < lanes_);
-    for (std::size_t i = 0; i < input_count_; ++i) states_[i * kLanes + lane] = inputs[i];
-}
-
 void NetworkLanes::step() {
     const LaneStep s{weights_.data(), scaled_biases_.data(), states_.data(), computed_.data(), rows_,
                      columns_,        input_count_,          output_count_};
@@ -178,11 +173,6 @@ void NetworkLanes::step() {
     if (avx2_) return lane_step_avx2(s);
 #endif
     lane_step_baseline(s);
-}
-
-void NetworkLanes::get_outputs(std::size_t lane, float* outputs) const {
-    STEPSTONE_ASSERT(lane < lanes_);
-    for (std::size_t o = 0; o < output_count_; ++o) outputs[o] = computed_[o * kLanes + lane];
 }
 
 }  // namespace stepstone::nn

@@ -4,6 +4,7 @@
 #include <span>
 #include <vector>
 
+#include "core/assert.hpp"
 #include "nn/dnn_config.hpp"
 #include "nn/genome.hpp"
 #include "nn/network.hpp"
@@ -51,11 +52,17 @@ public:
     /// Sets every neuron state of lane `lane` to 0.
     void reset(std::size_t lane);
     /// Writes lane `lane`'s input_count() inputs for the next step.
-    void set_inputs(std::size_t lane, const float* inputs);
+    void set_inputs(std::size_t lane, const float* inputs) {
+        STEPSTONE_ASSERT(lane < lanes_);
+        for (std::size_t i = 0; i < input_count_; ++i) states_[i * kLanes + lane] = inputs[i];
+    }
     /// One update of every lane.
     void step();
     /// Reads lane `lane`'s output_count() outputs of the last step.
-    void get_outputs(std::size_t lane, float* outputs) const;
+    void get_outputs(std::size_t lane, float* outputs) const {
+        STEPSTONE_ASSERT(lane < lanes_);
+        for (std::size_t o = 0; o < output_count_; ++o) outputs[o] = computed_[o * kLanes + lane];
+    }
 
     /// Lanes in use: kLanes, or the genomes' count for the second constructor.
     std::size_t lanes() const { return lanes_; }

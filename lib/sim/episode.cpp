@@ -66,24 +66,9 @@ void Episode::begin_start(int index) {
     switch_timer_ = 0;
 }
 
-void Episode::read_inputs(float* inputs) const {
-    fill_inputs(readings_, bumper_left_, bumper_right_, carrying_, inputs);
-}
-
 void Episode::act(float* outputs, const float* inputs) {
     clamp_outputs(outputs);
     act_clamped(outputs, inputs);
-}
-
-void Episode::clamp_outputs(float* outputs) {
-    // outputs at the sim boundary: NaN counted and replaced by 0, then clamped
-    for (int i = 0; i < kOutputs; ++i) {
-        if (std::isnan(outputs[i])) {
-            outputs[i] = 0.0f;
-            ++nan_outputs_;
-        }
-        outputs[i] = std::clamp(outputs[i], 0.0f, 1.0f);
-    }
 }
 
 void Episode::act_clamped(const float* outputs, const float* inputs) {

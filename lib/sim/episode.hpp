@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <bit>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <optional>
@@ -94,7 +95,9 @@ public:
     /// lights reset as in the original's instance() (docs/original.md: objects).
     void begin_start(int index);
     /// The 12 inputs of the current step (sensed at the end of the previous move).
-    void read_inputs(float* inputs) const;
+    void read_inputs(float* inputs) const {
+        fill_inputs(readings_, bumper_left_, bumper_right_, carrying_, inputs);
+    }
     /// Runs the rest of the step: replaces NaN outputs by 0 (counted) and
     /// clamps them to [0, 1] in place, records, applies the action at the
     /// current pose, ticks the switch timer, moves, applies the stand-still
@@ -103,7 +106,16 @@ public:
     void act(float* outputs, const float* inputs = nullptr);
     /// act() in two halves, for lanes of episodes: the NaN replacement and
     /// the clamping, then the rest on the clamped outputs.
-    void clamp_outputs(float* outputs);
+    void clamp_outputs(float* outputs) {
+        // outputs at the sim boundary: NaN counted and replaced by 0, then clamped
+        for (int i = 0; i < kOutputs; ++i) {
+            if (std::isnan(outputs[i])) {
+                outputs[i] = 0.0f;
+                ++nan_outputs_;
+            }
+            outputs[i] = std::clamp(outputs[i], 0.0f, 1.0f);
+        }
+    }
     void act_clamped(const float* outputs, const float* inputs = nullptr);
     /// act_clamped() in three parts, for lanes that move and sense several episodes at once
     /// (portable runs, run_episode_queue): the recording, the action and the switch timer at
