@@ -511,15 +511,15 @@ unsigned Arena::bumpers(const Pose& pose, bool door_open, std::uint32_t near) co
 Contact Arena::contact(const Pose& pose, bool door_open) const {
     const Near near = near_slots(pose.x, pose.y, door_open);
     if (near.overlap == 0) return Contact{};
-    // the bumpers' bits become bools here, where the caller can keep them in registers
-    const unsigned sides = bumpers<false>(pose, door_open, near.near);
-    return Contact{true, (sides & kLeft) != 0, (sides & kRight) != 0};
+    return contact_of_overlap(pose, door_open, near.near);
 }
 
 Contact Arena::contact_of_overlap(const Pose& pose, bool door_open, std::uint32_t near) const {
+    // the bumpers' bits become bools here, where the caller can keep them in registers
     const unsigned sides = bumpers<false>(pose, door_open, near);
     return Contact{true, (sides & kLeft) != 0, (sides & kRight) != 0};
 }
+
 Contact Arena::contact_by_angles(const Pose& pose, bool door_open) const {
     const Near near = near_slots(pose.x, pose.y, door_open);
     if (near.overlap == 0) return Contact{};
