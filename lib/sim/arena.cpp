@@ -469,6 +469,14 @@ unsigned bumpers_by_quarters(const WallBox& box, const Pose& pose, double c, dou
 
 }  // namespace
 
+namespace {
+
+// the contact of a disc that overlaps a wall, from the bumpers' bits: they become bools here,
+// where the caller can keep them in registers
+Contact overlap_contact(unsigned sides) { return Contact{true, (sides & kLeft) != 0, (sides & kRight) != 0}; }
+
+}  // namespace
+
 template <bool kByAngles>
 unsigned Arena::bumpers(const Pose& pose, bool door_open, std::uint32_t near) const {
     unsigned sides = 0;
@@ -515,16 +523,13 @@ Contact Arena::contact(const Pose& pose, bool door_open) const {
 }
 
 Contact Arena::contact_of_overlap(const Pose& pose, bool door_open, std::uint32_t near) const {
-    // the bumpers' bits become bools here, where the caller can keep them in registers
-    const unsigned sides = bumpers<false>(pose, door_open, near);
-    return Contact{true, (sides & kLeft) != 0, (sides & kRight) != 0};
+    return overlap_contact(bumpers<false>(pose, door_open, near));
 }
 
 Contact Arena::contact_by_angles(const Pose& pose, bool door_open) const {
     const Near near = near_slots(pose.x, pose.y, door_open);
     if (near.overlap == 0) return Contact{};
-    const unsigned sides = bumpers<true>(pose, door_open, near.near);
-    return Contact{true, (sides & kLeft) != 0, (sides & kRight) != 0};
+    return overlap_contact(bumpers<true>(pose, door_open, near.near));
 }
 
 }  // namespace stepstone::sim

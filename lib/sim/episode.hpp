@@ -122,9 +122,9 @@ public:
     /// the current pose; then the move to `next` (move_pose()'s answer, from move_lanes(),
     /// with `heading` the cos and sin of next.heading) and the contact test (`touches`:
     /// whether the disc at `next` overlaps a wall, and `near` its walls near the disc, from
-    /// Arena::disc_overlaps_lanes(); contact() is none otherwise); then the stand-still
-    /// rule and the sensing, the three
-    /// laser distances at the pose reached given (from sense_lasers_lanes()).
+    /// Arena::disc_overlaps_lanes(); contact() is none otherwise); then the stand-still rule
+    /// and the sensing, the three laser distances at the pose reached given (from
+    /// sense_lasers_lanes()).
     void act_before_move(const float* outputs, const float* inputs = nullptr);
     void move_to(const Pose& next, const CosSin& heading, bool touches, std::uint32_t near);
     void end_move(const std::array<double, 3>& lasers);

@@ -158,8 +158,8 @@ TEST_CASE("sight-table reach candidates hold every light within reach", "[sim][s
         // and it is a filter: at a point drawn anywhere in the arena, few lights are candidates
         // (a light's candidate cells cover some 3,000 of the 240,000 square units)
         int candidates = 0;
+        const std::uint32_t all = (1u << lights.size()) - 1u;
         for (int i = 0; i < 10'000; ++i) {
-            const std::uint32_t all = (1u << lights.size()) - 1u;
             candidates +=
                 std::popcount(sight.reach_candidates(rng.uniform(0.0, 600.0), rng.uniform(0.0, 400.0)) & all);
         }
