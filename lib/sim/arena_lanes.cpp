@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <utility>
 
 #include "core/assert.hpp"
 #include "sim/arena.hpp"
@@ -134,8 +135,60 @@ template <std::size_t W>
     return bits;
 }
 
+// a Floats' lanes as two halves of W/2: doubles, and floats (one specialisation a width)
+template <std::size_t W>
+struct Halves;
+template <>
+struct Halves<4> {
+    using Doubles = double __attribute__((vector_size(16)));
+    using Floats = float __attribute__((vector_size(8)));
+};
+template <>
+struct Halves<8> {
+    using Doubles = double __attribute__((vector_size(32)));
+    using Floats = float __attribute__((vector_size(16)));
+};
+
+// ray_distance()'s guard against a zero component, in double before the conversion to float: the
+// same float, as 1e-30 converts to 1e-30f
+static_assert(static_cast<float>(1e-30) == 1e-30f);
+
+// values[0, W) as W floats, with ray_distance()'s guard when kGuard: fabs(v) < 1e-30 becomes 1e-30
+template <std::size_t W, bool kGuard, class Floats, std::size_t... I>
+[[gnu::always_inline]] inline void floats_of(const double* values, Floats& out, std::index_sequence<I...>) {
+    using Doubles = typename Halves<W>::Doubles;
+    using HalfFloats = typename Halves<W>::Floats;
+    Doubles half[2];
+    load(half[0], values);
+    load(half[1], values + W / 2);
+    if constexpr (kGuard) {
+        for (Doubles& h : half) {
+            const Doubles magnitude = h < 0.0 ? -h : h;  // only compared: -0.0 or 0.0 alike
+            h = magnitude < 1e-30 ? Doubles{} + 1e-30 : h;
+        }
+    }
+    const auto low = __builtin_convertvector(half[0], HalfFloats);
+    const auto high = __builtin_convertvector(half[1], HalfFloats);
+    out = __builtin_shufflevector(low, high, I...);
+}
+
+// out[0, W) = distances[0, W) converted to double where within `range`, else -1
+template <std::size_t W, class Floats, std::size_t... I>
+[[gnu::always_inline]] inline void distances_of(const Floats& distances, double range, double* out,
+                                                std::index_sequence<I...>) {
+    using Doubles = typename Halves<W>::Doubles;
+    const auto low = __builtin_shufflevector(distances, distances, I...);
+    const auto high = __builtin_shufflevector(distances, distances, (I + W / 2)...);
+    const Doubles d[2] = {__builtin_convertvector(low, Doubles), __builtin_convertvector(high, Doubles)};
+    for (std::size_t h = 0; h < 2; ++h) {
+        const Doubles kept = d[h] <= range ? d[h] : Doubles{} - 1.0;
+        std::memcpy(out + h * (W / 2), &kept, sizeof kept);
+    }
+}
+
 // Arena::ray_distances_lanes: the slab test of ray_distances()' SSE kernel, slot after slot,
-// the nearest hit kept as ray_distance() keeps it (std::min(nearest, t) in slot order)
+// the nearest hit kept as ray_distance() keeps it (std::min(nearest, t) in slot order); the
+// origins and components converted to float, and the distances back, W lanes at a time
 template <std::size_t W>
 [[gnu::always_inline]] inline void rays_kernel(const Walls& walls, std::size_t slots, const double* x,
                                                const double* y, const double* const (&dx)[3],
@@ -145,38 +198,42 @@ template <std::size_t W>
     using Floats = typename Vectors<W>::Floats;
     using Ints = typename Vectors<W>::Ints;
     constexpr float kNone = 1e30f;
+    constexpr auto kAll = std::make_index_sequence<W>{};
+    constexpr auto kHalf = std::make_index_sequence<W / 2>{};
     for (std::size_t base = 0; base < count; base += W) {
-        alignas(32) float origin[2][W];
-        alignas(32) std::int32_t lane_open[W];
-        alignas(32) float components[3][2][W];  // ray_distance()'s float components, guarded against 0
-        for (std::size_t i = 0; i < W; ++i) {
-            const std::size_t l = base + i < count ? base + i : base;  // padding repeats the first lane
-            origin[0][i] = static_cast<float>(x[l]);
-            origin[1][i] = static_cast<float>(y[l]);
-            lane_open[i] = ((door_open >> l) & 1u) != 0 ? -1 : 0;
-            for (std::size_t r = 0; r < 3; ++r) {
-                const double d[2] = {dx[r][l], dy[r][l]};
-                for (std::size_t a = 0; a < 2; ++a) {
-                    components[r][a][i] = std::fabs(d[a]) < 1e-30 ? 1e-30f : static_cast<float>(d[a]);
-                }
+        // the inputs of lanes [base, base + W), read in place, or copied for the last block with
+        // its padding repeating the block's first lane
+        const double* in[8] = {x + base, y + base};
+        for (std::size_t r = 0; r < 3; ++r) {
+            in[2 + 2 * r] = dx[r] + base;
+            in[3 + 2 * r] = dy[r] + base;
+        }
+        alignas(32) double block[8][W];
+        const bool partial = base + W > count;
+        if (partial) {
+            for (std::size_t k = 0; k < 8; ++k) {
+                for (std::size_t i = 0; i < W; ++i) block[k][i] = in[k][base + i < count ? i : 0];
+                in[k] = block[k];
             }
         }
         Floats ox;
         Floats oy;
-        Ints open;
-        load(ox, origin[0]);
-        load(oy, origin[1]);
-        load(open, lane_open);
+        floats_of<W, false>(in[0], ox, kAll);
+        floats_of<W, false>(in[1], oy, kAll);
+        Floats components[3][2];  // ray_distance()'s float components, guarded against 0
+        for (std::size_t r = 0; r < 3; ++r) {
+            floats_of<W, true>(in[2 + 2 * r], components[r][0], kAll);
+            floats_of<W, true>(in[3 + 2 * r], components[r][1], kAll);
+        }
+        Ints lane_bits;
+        for (std::size_t i = 0; i < W; ++i) lane_bits[i] = static_cast<std::int32_t>(1u << i);
+        const Ints open = ((Ints{} + static_cast<std::int32_t>(door_open >> base)) & lane_bits) != 0;
         const Floats zero = {};
         const Floats none = zero + kNone;
         Floats inverse[3][2];
         Floats nearest[3];
         for (std::size_t r = 0; r < 3; ++r) {
-            for (std::size_t a = 0; a < 2; ++a) {
-                Floats component;
-                load(component, components[r][a]);
-                inverse[r][a] = (zero + 1.0f) / component;
-            }
+            for (std::size_t a = 0; a < 2; ++a) inverse[r][a] = (zero + 1.0f) / components[r][a];
             nearest[r] = none;
         }
         for (std::size_t k = 0; k < slots; ++k) {
@@ -208,13 +265,14 @@ template <std::size_t W>
                 nearest[r] = t < nearest[r] ? t : nearest[r];
             }
         }
-        alignas(32) float distances[3][W];
-        std::memcpy(distances, nearest, sizeof distances);
-        for (std::size_t i = 0; i < W && base + i < count; ++i) {
-            for (std::size_t r = 0; r < 3; ++r) {
-                const auto distance = static_cast<double>(distances[r][i]);
-                out[r][base + i] = distance <= range ? distance : -1.0;
+        for (std::size_t r = 0; r < 3; ++r) {
+            if (!partial) {
+                distances_of<W>(nearest[r], range, out[r] + base, kHalf);
+                continue;
             }
+            alignas(32) double distances[W];
+            distances_of<W>(nearest[r], range, distances, kHalf);
+            std::copy(distances, distances + (count - base), out[r] + base);
         }
     }
 }

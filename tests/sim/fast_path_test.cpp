@@ -386,6 +386,14 @@ TEST_CASE("rays of many lanes at once read exactly what single rays read, each l
                     dir_y[r][l] = std::sin(a);
                     if (l % 4 == 0) (rng.bernoulli(0.5) ? dir_x : dir_y)[r][l] = 0.0;
                 }
+                if (l % 8 == 4) {
+                    // the origin exactly on a wall's edge along a zero component: the offset is 0,
+                    // and 0 times an unguarded inverse would be NaN
+                    const WallBox& wall =
+                        arena.walls()[static_cast<std::size_t>(rng.below(arena.walls().size()))];
+                    if (dir_x[0][l] == 0.0) xs[l] = rng.bernoulli(0.5) ? wall.x0 : wall.x1;
+                    if (dir_y[0][l] == 0.0) ys[l] = rng.bernoulli(0.5) ? wall.y0 : wall.y1;
+                }
             }
             arena.ray_distances_lanes(xs, ys, {dir_x[0], dir_x[1], dir_x[2]}, {dir_y[0], dir_y[1], dir_y[2]},
                                       kLaserRange, door_open, count,
