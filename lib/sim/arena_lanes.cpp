@@ -75,66 +75,6 @@ template <class Floats, class Ints>
     for (std::size_t i = 0; i < 4; ++i) box[i] = open != 0 ? zero + walls.open_door[i] : box[i];
 }
 
-// Arena::disc_overlaps_lanes: near_slots()'s single-precision squared distance of each slot
-// in turn, the smallest kept; the disc overlaps a wall when it is below r2. near[l] gets the
-// slots (bit k) whose distance is below r2 + margin, near_slots()' `near`.
-template <std::size_t W>
-[[gnu::always_inline]] inline std::uint32_t overlaps_kernel(const Walls& walls, std::size_t slots,
-                                                            const double* x, const double* y,
-                                                            std::uint32_t door_open, std::size_t count,
-                                                            float margin, std::uint32_t* near) {
-    using Floats = typename Vectors<W>::Floats;
-    using Ints = typename Vectors<W>::Ints;
-    const auto r2 = static_cast<float>(kRobotRadius * kRobotRadius);
-    const float r2_near = r2 + margin;
-    std::uint32_t bits = 0;
-    for (std::size_t base = 0; base < count; base += W) {
-        alignas(32) float centre[2][W];
-        alignas(32) std::int32_t lane_open[W];
-        for (std::size_t i = 0; i < W; ++i) {
-            const bool lane = base + i < count;
-            centre[0][i] = lane ? static_cast<float>(x[base + i]) : kNowhere;
-            centre[1][i] = lane ? static_cast<float>(y[base + i]) : kNowhere;
-            lane_open[i] = lane && ((door_open >> (base + i)) & 1u) != 0 ? -1 : 0;
-        }
-        Floats cx;
-        Floats cy;
-        Ints open;
-        load(cx, centre[0]);
-        load(cy, centre[1]);
-        load(open, lane_open);
-        const Floats zero = {};
-        Floats d2_min = zero + r2;
-        Ints near_bits = {};
-        for (std::size_t k = 0; k < slots; ++k) {
-            Floats box[4];
-            box_of(walls, k, open, box);
-            const Floats a = box[0] - cx;
-            const Floats b = cx - box[1];
-            const Floats c = box[2] - cy;
-            const Floats d = cy - box[3];
-            // std::max(std::max(a, b), 0.0f): (a < b ? b : a), then against 0 the same way
-            const Floats ab = a < b ? b : a;
-            const Floats cd = c < d ? d : c;
-            const Floats ex = ab < zero ? zero : ab;
-            const Floats ey = cd < zero ? zero : cd;
-            const Floats d2 = ex * ex + ey * ey;
-            d2_min = d2 < d2_min ? d2 : d2_min;
-            near_bits |= (d2 < r2_near) & static_cast<std::int32_t>(1u << k);
-        }
-        const Ints below = d2_min < r2;
-        alignas(32) std::int32_t lanes_below[W];
-        alignas(32) std::int32_t lanes_near[W];
-        std::memcpy(lanes_below, &below, sizeof below);
-        std::memcpy(lanes_near, &near_bits, sizeof near_bits);
-        for (std::size_t i = 0; i < W && base + i < count; ++i) {
-            bits |= static_cast<std::uint32_t>(lanes_below[i] != 0) << (base + i);
-            near[base + i] = static_cast<std::uint32_t>(lanes_near[i]);
-        }
-    }
-    return bits;
-}
-
 // a Floats' lanes as two halves of W/2: doubles, and floats (one specialisation a width)
 template <std::size_t W>
 struct Halves;
@@ -184,6 +124,73 @@ template <std::size_t W, class Floats, std::size_t... I>
         const Doubles kept = d[h] <= range ? d[h] : Doubles{} - 1.0;
         std::memcpy(out + h * (W / 2), &kept, sizeof kept);
     }
+}
+
+// Arena::disc_overlaps_lanes: near_slots()'s single-precision squared distance of each slot
+// in turn, the smallest kept; the disc overlaps a wall when it is below r2. near[l] gets the
+// slots (bit k) whose distance is below r2 + margin, near_slots()' `near`.
+template <std::size_t W>
+[[gnu::always_inline]] inline std::uint32_t overlaps_kernel(const Walls& walls, std::size_t slots,
+                                                            const double* x, const double* y,
+                                                            std::uint32_t door_open, std::size_t count,
+                                                            float margin, std::uint32_t* near) {
+    using Floats = typename Vectors<W>::Floats;
+    using Ints = typename Vectors<W>::Ints;
+    const auto r2 = static_cast<float>(kRobotRadius * kRobotRadius);
+    const float r2_near = r2 + margin;
+    std::uint32_t bits = 0;
+    Ints lane_bits;
+    for (std::size_t i = 0; i < W; ++i) lane_bits[i] = static_cast<std::int32_t>(1u << i);
+    for (std::size_t base = 0; base < count; base += W) {
+        // the centres of lanes [base, base + W), read in place, or copied for the last block with
+        // its padding far from every wall
+        const double* centre[2] = {x + base, y + base};
+        alignas(32) double block[2][W];
+        const bool partial = base + W > count;
+        if (partial) {
+            for (std::size_t k = 0; k < 2; ++k) {
+                for (std::size_t i = 0; i < W; ++i) block[k][i] = base + i < count ? centre[k][i] : kNowhere;
+                centre[k] = block[k];
+            }
+        }
+        Floats cx;
+        Floats cy;
+        floats_of<W, false>(centre[0], cx, std::make_index_sequence<W>{});
+        floats_of<W, false>(centre[1], cy, std::make_index_sequence<W>{});
+        const Ints open = ((Ints{} + static_cast<std::int32_t>(door_open >> base)) & lane_bits) != 0;
+        const Floats zero = {};
+        Floats d2_min = zero + r2;
+        Ints near_bits = {};
+        for (std::size_t k = 0; k < slots; ++k) {
+            Floats box[4];
+            box_of(walls, k, open, box);
+            const Floats a = box[0] - cx;
+            const Floats b = cx - box[1];
+            const Floats c = box[2] - cy;
+            const Floats d = cy - box[3];
+            // std::max(std::max(a, b), 0.0f): (a < b ? b : a), then against 0 the same way
+            const Floats ab = a < b ? b : a;
+            const Floats cd = c < d ? d : c;
+            const Floats ex = ab < zero ? zero : ab;
+            const Floats ey = cd < zero ? zero : cd;
+            const Floats d2 = ex * ex + ey * ey;
+            d2_min = d2 < d2_min ? d2 : d2_min;
+            near_bits |= (d2 < r2_near) & static_cast<std::int32_t>(1u << k);
+        }
+        const Ints below = (d2_min < r2) & lane_bits;
+        std::uint32_t block_bits = 0;
+        for (std::size_t i = 0; i < W; ++i) block_bits |= static_cast<std::uint32_t>(below[i]);
+        bits |= block_bits << base;  // (the padding, far from every wall, sets none)
+        const std::size_t lanes = partial ? count - base : W;
+        if (!partial) {
+            std::memcpy(near + base, &near_bits, sizeof near_bits);
+        } else {
+            alignas(32) std::uint32_t lanes_near[W];
+            std::memcpy(lanes_near, &near_bits, sizeof near_bits);
+            std::copy(lanes_near, lanes_near + lanes, near + base);
+        }
+    }
+    return bits;
 }
 
 // Arena::ray_distances_lanes: the slab test of ray_distances()' SSE kernel, slot after slot,
