@@ -126,6 +126,14 @@ template <std::size_t W, class Floats, std::size_t... I>
     }
 }
 
+// -1 in lane i of `open` where bit base + i of `door_open` is set (each lane's door)
+template <std::size_t W, class Ints>
+[[gnu::always_inline]] inline void doors_open(std::uint32_t door_open, std::size_t base, Ints& open) {
+    Ints lane_bits;
+    for (std::size_t i = 0; i < W; ++i) lane_bits[i] = static_cast<std::int32_t>(1u << i);
+    open = ((Ints{} + static_cast<std::int32_t>(door_open >> base)) & lane_bits) != 0;
+}
+
 // Arena::disc_overlaps_lanes: near_slots()'s single-precision squared distance of each slot
 // in turn, the smallest kept; the disc overlaps a wall when it is below r2. near[l] gets the
 // slots (bit k) whose distance is below r2 + margin, near_slots()' `near`.
@@ -139,8 +147,6 @@ template <std::size_t W>
     const auto r2 = static_cast<float>(kRobotRadius * kRobotRadius);
     const float r2_near = r2 + margin;
     std::uint32_t bits = 0;
-    Ints lane_bits;
-    for (std::size_t i = 0; i < W; ++i) lane_bits[i] = static_cast<std::int32_t>(1u << i);
     for (std::size_t base = 0; base < count; base += W) {
         // the centres of lanes [base, base + W), read in place, or copied for the last block with
         // its padding far from every wall
@@ -157,7 +163,8 @@ template <std::size_t W>
         Floats cy;
         floats_of<W, false>(centre[0], cx, std::make_index_sequence<W>{});
         floats_of<W, false>(centre[1], cy, std::make_index_sequence<W>{});
-        const Ints open = ((Ints{} + static_cast<std::int32_t>(door_open >> base)) & lane_bits) != 0;
+        Ints open;
+        doors_open<W>(door_open, base, open);
         const Floats zero = {};
         Floats d2_min = zero + r2;
         Ints near_bits = {};
@@ -177,9 +184,9 @@ template <std::size_t W>
             d2_min = d2 < d2_min ? d2 : d2_min;
             near_bits |= (d2 < r2_near) & static_cast<std::int32_t>(1u << k);
         }
-        const Ints below = (d2_min < r2) & lane_bits;
+        const Ints below = d2_min < r2;
         std::uint32_t block_bits = 0;
-        for (std::size_t i = 0; i < W; ++i) block_bits |= static_cast<std::uint32_t>(below[i]);
+        for (std::size_t i = 0; i < W; ++i) block_bits |= static_cast<std::uint32_t>(below[i] != 0) << i;
         bits |= block_bits << base;  // (the padding, far from every wall, sets none)
         const std::size_t lanes = partial ? count - base : W;
         if (!partial) {
@@ -232,9 +239,8 @@ template <std::size_t W>
             floats_of<W, true>(in[2 + 2 * r], components[r][0], kAll);
             floats_of<W, true>(in[3 + 2 * r], components[r][1], kAll);
         }
-        Ints lane_bits;
-        for (std::size_t i = 0; i < W; ++i) lane_bits[i] = static_cast<std::int32_t>(1u << i);
-        const Ints open = ((Ints{} + static_cast<std::int32_t>(door_open >> base)) & lane_bits) != 0;
+        Ints open;
+        doors_open<W>(door_open, base, open);
         const Floats zero = {};
         const Floats none = zero + kNone;
         Floats inverse[3][2];
