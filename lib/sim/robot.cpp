@@ -82,7 +82,8 @@ void move_lanes(MoveLanes& lanes) {
     }
     // the angles: the new heading of every lane, then the turn and the rotation of every lane
     // (asked for in every lane; a straight lane ignores them)
-    alignas(64) std::array<double, 3 * kMax> angles{};  // {}: read by an out-of-line call
+    // (no initialiser: the loop below writes every lane sincos_lanes() reads, padding included)
+    alignas(64) std::array<double, 3 * kMax> angles;
     alignas(64) std::array<double, 3 * kMax> sines;
     alignas(64) std::array<double, 3 * kMax> cosines;
     alignas(64) std::array<double, kMax> left;
