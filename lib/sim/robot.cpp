@@ -6,6 +6,7 @@
 #include <cstring>
 
 #include "core/portable_math_lanes.hpp"
+#include "sim/arena.hpp"
 #include "sim/cos_sin.hpp"
 #include "sim/lane_load.hpp"
 #include "sim/units.hpp"
@@ -66,13 +67,33 @@ Pose move_pose(const Pose& pose, double left, double right) {
                           : move_arc<false>(pose, left, alpha, memos);
 }
 
-void move_lanes(MoveLanes& lanes) {
-    // two lanes a vector (GCC's vector extension, one SSE register),
-    // every expression as move_pose()'s, both of its branches computed and one chosen by lane
+namespace {
+
+// W lanes a vector (GCC's vector extension; one specialisation a width, as GCC drops a
+// vector_size that depends on a template argument)
+template <std::size_t W>
+struct MoveVectors;
+template <>
+struct MoveVectors<2> {  // one SSE register
     using Doubles = double __attribute__((vector_size(16)));
     using Floats = float __attribute__((vector_size(8)));
     using Longs = std::int64_t __attribute__((vector_size(16)));
-    constexpr std::size_t kWidth = 2;
+};
+template <>
+struct MoveVectors<4> {  // one AVX register
+    using Doubles = double __attribute__((vector_size(32)));
+    using Floats = float __attribute__((vector_size(16)));
+    using Longs = std::int64_t __attribute__((vector_size(32)));
+};
+
+// move_lanes() W lanes a vector: every expression as move_pose()'s, both of its branches
+// computed and one chosen by lane
+template <std::size_t W>
+[[gnu::always_inline]] inline void move_kernel(MoveLanes& lanes) {
+    using Doubles = typename MoveVectors<W>::Doubles;
+    using Floats = typename MoveVectors<W>::Floats;
+    using Longs = typename MoveVectors<W>::Longs;
+    constexpr std::size_t kWidth = W;
     constexpr std::size_t kMax = MoveLanes::kMaxLanes;
     const std::size_t n = lanes.count;
     const std::size_t padded = (n + kWidth - 1) / kWidth * kWidth;
@@ -149,6 +170,22 @@ void move_lanes(MoveLanes& lanes) {
         std::memcpy(&lanes.next_sin[l], &hs, sizeof hs);
     }
     std::copy(angles.begin(), angles.begin() + static_cast<std::ptrdiff_t>(n), lanes.next_heading.begin());
+}
+
+void move_sse2(MoveLanes& lanes) { move_kernel<2>(lanes); }
+
+#if defined(__x86_64__) || defined(__i386__)
+#define STEPSTONE_SIM_HAVE_AVX2_MOVE 1
+[[gnu::target("avx2")]] void move_avx2(MoveLanes& lanes) { move_kernel<4>(lanes); }
+#endif
+
+}  // namespace
+
+void move_lanes(MoveLanes& lanes) {
+#ifdef STEPSTONE_SIM_HAVE_AVX2_MOVE
+    if (avx2_kernels()) return move_avx2(lanes);
+#endif
+    move_sse2(lanes);
 }
 
 bool is_still(const Pose& before, const Pose& after) {

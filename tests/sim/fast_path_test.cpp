@@ -313,52 +313,55 @@ TEST_CASE("disc overlaps of many centres at once equal one at a time, each lane 
     });
 }
 
-TEST_CASE("moves of many lanes at once equal portable move_pose, bit for bit", "[sim][robot][fast][lanes]") {
-    stepstone::Rng rng(29);
-    CosSinMemos memos;
-    memos.portable = true;
-    const CosSinMemoScope scope(memos);
-    long straight = 0;
-    long wrapped = 0;
-    for (int round = 0; round < 4'000; ++round) {
-        MoveLanes lanes;
-        lanes.count = 1 + static_cast<std::size_t>(rng.below(32));
-        for (std::size_t l = 0; l < lanes.count; ++l) {
-            lanes.x[l] = rng.uniform(0.0, 600.0);
-            lanes.y[l] = rng.uniform(0.0, 400.0);
-            // a sixth of the headings next to +-pi, where a turn wraps
-            lanes.heading[l] = l % 6 == 0 ? (rng.bernoulli(0.5) ? kPi : -kPi) + rng.uniform(-0.2, 0.2)
-                                          : rng.uniform(-kPi, kPi);
-            lanes.heading[l] = normalize_angle(lanes.heading[l]);
-            // saturated, equal (straight) and free outputs
-            const auto output = [&] {
-                const auto kind = rng.below(3);
-                return kind == 0 ? static_cast<float>(rng.below(2)) : static_cast<float>(rng.uniform());
-            };
-            lanes.left[l] = output();
-            lanes.right[l] = rng.bernoulli(0.2) ? lanes.left[l] : output();
+TEST_CASE("moves of many lanes at once equal portable move_pose, bit for bit, both widths",
+          "[sim][robot][fast][lanes]") {
+    with_each_kernel([] {
+        stepstone::Rng rng(29);
+        CosSinMemos memos;
+        memos.portable = true;
+        const CosSinMemoScope scope(memos);
+        long straight = 0;
+        long wrapped = 0;
+        for (int round = 0; round < 4'000; ++round) {
+            MoveLanes lanes;
+            lanes.count = 1 + static_cast<std::size_t>(rng.below(32));
+            for (std::size_t l = 0; l < lanes.count; ++l) {
+                lanes.x[l] = rng.uniform(0.0, 600.0);
+                lanes.y[l] = rng.uniform(0.0, 400.0);
+                // a sixth of the headings next to +-pi, where a turn wraps
+                lanes.heading[l] = l % 6 == 0 ? (rng.bernoulli(0.5) ? kPi : -kPi) + rng.uniform(-0.2, 0.2)
+                                              : rng.uniform(-kPi, kPi);
+                lanes.heading[l] = normalize_angle(lanes.heading[l]);
+                // saturated, equal (straight) and free outputs
+                const auto output = [&] {
+                    const auto kind = rng.below(3);
+                    return kind == 0 ? static_cast<float>(rng.below(2)) : static_cast<float>(rng.uniform());
+                };
+                lanes.left[l] = output();
+                lanes.right[l] = rng.bernoulli(0.2) ? lanes.left[l] : output();
+            }
+            move_lanes(lanes);
+            for (std::size_t l = 0; l < lanes.count; ++l) {
+                const Pose pose{lanes.x[l], lanes.y[l], lanes.heading[l]};
+                const Pose next = move_pose(pose, wheel_step(lanes.left[l]), wheel_step(lanes.right[l]));
+                const auto same = [](double a, double b) {
+                    return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b);
+                };
+                REQUIRE(same(lanes.next_x[l], next.x));
+                REQUIRE(same(lanes.next_y[l], next.y));
+                REQUIRE(same(lanes.next_heading[l], next.heading));
+                double s = 0.0;
+                double c = 0.0;
+                stepstone::portable::sincos(next.heading, s, c);
+                REQUIRE(same(lanes.next_cos[l], c));
+                REQUIRE(same(lanes.next_sin[l], s));
+                straight += lanes.left[l] == lanes.right[l] ? 1 : 0;
+                wrapped += std::fabs(next.heading - pose.heading) > kPi ? 1 : 0;  // crossed +-pi
+            }
         }
-        move_lanes(lanes);
-        for (std::size_t l = 0; l < lanes.count; ++l) {
-            const Pose pose{lanes.x[l], lanes.y[l], lanes.heading[l]};
-            const Pose next = move_pose(pose, wheel_step(lanes.left[l]), wheel_step(lanes.right[l]));
-            const auto same = [](double a, double b) {
-                return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b);
-            };
-            REQUIRE(same(lanes.next_x[l], next.x));
-            REQUIRE(same(lanes.next_y[l], next.y));
-            REQUIRE(same(lanes.next_heading[l], next.heading));
-            double s = 0.0;
-            double c = 0.0;
-            stepstone::portable::sincos(next.heading, s, c);
-            REQUIRE(same(lanes.next_cos[l], c));
-            REQUIRE(same(lanes.next_sin[l], s));
-            straight += lanes.left[l] == lanes.right[l] ? 1 : 0;
-            wrapped += std::fabs(next.heading - pose.heading) > kPi ? 1 : 0;  // crossed +-pi
-        }
-    }
-    CHECK(straight > 5'000);
-    CHECK(wrapped > 1'000);
+        CHECK(straight > 5'000);
+        CHECK(wrapped > 1'000);
+    });
 }
 
 TEST_CASE("rays of many lanes at once read exactly what single rays read, each lane with its own door",
