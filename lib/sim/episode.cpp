@@ -100,25 +100,20 @@ void Episode::move_to(const Pose& next, const CosSin& heading, bool touches, std
     // the bumpers and the sensors take the new heading's cos and sin from the memo
     memos_.heading.bits = std::bit_cast<std::uint64_t>(next.heading);
     memos_.heading.value = heading;
-    before_ = pose_;
+    const Pose before = pose_;
     take_move(next, touches ? task_->arena().contact_of_overlap(next, state_.door_open, near) : Contact{});
+    still_rule(before);
+    sense_lights(task_->arena(), task_->sight(), pose_, state_, readings_);
 }
 
-void Episode::end_move(const std::array<double, 3>& lasers) {
-    const CosSinMemoScope scope(memos_);
-    end_step(before_, &lasers);
-}
-
-void Episode::end_step(const Pose& before, const std::array<double, 3>* lasers) {
-    // stand-still rule: the count is never reset and ends the whole evaluation
+void Episode::still_rule(const Pose& before) {
+    // the count is never reset and ends the whole evaluation
     if (is_still(before, pose_) && ++still_steps_ > task_->config().still_limit) stopped_ = true;
+}
 
-    if (lasers != nullptr) {
-        readings_.laser = *lasers;
-        sense_lights(task_->arena(), task_->sight(), pose_, state_, readings_);
-    } else {
-        sense(task_->arena(), task_->sight(), pose_, state_, readings_);
-    }
+void Episode::end_step(const Pose& before) {
+    still_rule(before);
+    sense(task_->arena(), task_->sight(), pose_, state_, readings_);
     ++step_;
     ++steps_run_;
 }

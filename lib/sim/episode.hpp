@@ -122,12 +122,16 @@ public:
     /// the current pose; then the move to `next` (move_pose()'s answer, from move_lanes(),
     /// with `heading` the cos and sin of next.heading) and the contact test (`touches`:
     /// whether the disc at `next` overlaps a wall, and `near` its walls near the disc, from
-    /// Arena::disc_overlaps_lanes(); contact() is none otherwise); then the stand-still rule
-    /// and the sensing, the three laser distances at the pose reached given (from
-    /// sense_lasers_lanes()).
+    /// Arena::disc_overlaps_lanes(); contact() is none otherwise), the stand-still rule and the
+    /// light sensors at the pose reached; then the three laser distances at that pose (from
+    /// sense_lasers_lanes()) and the step's count.
     void act_before_move(const float* outputs, const float* inputs = nullptr);
     void move_to(const Pose& next, const CosSin& heading, bool touches, std::uint32_t near);
-    void end_move(const std::array<double, 3>& lasers);
+    void end_move(const std::array<double, 3>& lasers) {
+        readings_.laser = lasers;
+        ++step_;
+        ++steps_run_;
+    }
     /// Ends the episode: pads the recording after an early stop, returns the result.
     EpisodeResult finish();
 
@@ -158,14 +162,15 @@ private:
     void apply_action(float action);
     void move(float left_output, float right_output);
     void take_move(const Pose& next, const Contact& contact);
-    // the stand-still rule, the sensing (the lasers given, or not) and the counters
-    void end_step(const Pose& before, const std::array<double, 3>* lasers = nullptr);
+    // the stand-still rule against the pose before the move
+    void still_rule(const Pose& before);
+    // the stand-still rule, the sensing and the counters
+    void end_step(const Pose& before);
 
     const Task* task_;
     Recording recording_;
     CosSinMemos memos_;  // this evaluation's repeats of cos and sin
     Pose pose_;
-    Pose before_;  // the pose before move_to()'s move
     WorldState state_;
     SensorReadings readings_;
     bool bumper_left_ = false;
