@@ -4,6 +4,8 @@
 #include <exception>
 #include <thread>
 
+#include "core/error.hpp"
+#include "core/text.hpp"
 #include "exp/parallel/writer_lock.hpp"
 #include "nn/network.hpp"
 #include "nn/network_lanes.hpp"
@@ -75,6 +77,14 @@ std::vector<std::vector<std::size_t>> plan_work(std::span<const nn::Genome> geno
     return items;
 }
 
+// The episode reads 12 inputs and acts on 3 outputs: a genome with other counts is refused.
+void check_counts(const nn::Genome& genome) {
+    if (genome.input_count() != sim::kInputs || genome.output_count() != sim::kOutputs) {
+        throw DataError(concat("a policy of the task has ", sim::kInputs, " inputs and ", sim::kOutputs,
+                               " outputs, not ", genome.input_count(), " and ", genome.output_count()));
+    }
+}
+
 // Evaluates genomes[queue] in lanes, each result in its own slot.
 void evaluate_queue(const sim::Task& task, std::span<const nn::Genome> genomes,
                     std::span<const std::size_t> queue, const nn::DnnConfig& dnn,
@@ -82,6 +92,7 @@ void evaluate_queue(const sim::Task& task, std::span<const nn::Genome> genomes,
     std::size_t max_hidden = 0;
     for (std::size_t k : queue) max_hidden = std::max(max_hidden, hidden_count(genomes[k]));
     const nn::Genome& first = genomes[queue[0]];
+    check_counts(first);  // NetworkLanes::load holds the queue's other genomes to the first's counts
     nn::NetworkLanes network(first.input_count(), first.output_count(), max_hidden, dnn);
     struct Controller {
         nn::NetworkLanes& network;
@@ -90,9 +101,14 @@ void evaluate_queue(const sim::Task& task, std::span<const nn::Genome> genomes,
         std::size_t lanes() const { return network.lanes(); }
         void load(std::size_t lane, std::size_t job) { network.load(lane, genomes[queue[job]]); }
         void reset(std::size_t lane) { network.reset(lane); }
-        void set_inputs(std::size_t lane, const float* inputs) { network.set_inputs(lane, inputs); }
+        // the counts checked above, known when compiling
+        void set_inputs(std::size_t lane, const float* inputs) {
+            network.set_inputs<sim::kInputs>(lane, inputs);
+        }
         void step() { network.step(); }
-        void get_outputs(std::size_t lane, float* outputs) const { network.get_outputs(lane, outputs); }
+        void get_outputs(std::size_t lane, float* outputs) const {
+            network.get_outputs<sim::kOutputs>(lane, outputs);
+        }
     } controller{network, genomes, queue};
 
     const std::size_t width = behaviours ? task.behaviour_size() : 0;
@@ -116,6 +132,7 @@ void evaluate_queue(const sim::Task& task, std::span<const nn::Genome> genomes,
 
 Evaluation evaluate_genome(const sim::Task& task, const nn::Genome& genome, const nn::DnnConfig& dnn,
                            std::span<float> behaviour) {
+    check_counts(genome);
     nn::Network network(genome, dnn);
     std::vector<std::array<int, 2>> cells(task.cell_count());
     sim::Recording recording;

@@ -56,12 +56,24 @@ public:
         STEPSTONE_ASSERT(lane < lanes_);
         for (std::size_t i = 0; i < input_count_; ++i) states_[i * kLanes + lane] = inputs[i];
     }
+    /// set_inputs() with input_count() known when compiling (N): a loop without a trip count to test.
+    template <std::size_t N>
+    void set_inputs(std::size_t lane, const float* inputs) {
+        STEPSTONE_ASSERT(lane < lanes_ && N == input_count_);
+        for (std::size_t i = 0; i < N; ++i) states_[i * kLanes + lane] = inputs[i];
+    }
     /// One update of every lane.
     void step();
     /// Reads lane `lane`'s output_count() outputs of the last step.
     void get_outputs(std::size_t lane, float* outputs) const {
         STEPSTONE_ASSERT(lane < lanes_);
         for (std::size_t o = 0; o < output_count_; ++o) outputs[o] = computed_[o * kLanes + lane];
+    }
+    /// get_outputs() with output_count() known when compiling (N).
+    template <std::size_t N>
+    void get_outputs(std::size_t lane, float* outputs) const {
+        STEPSTONE_ASSERT(lane < lanes_ && N == output_count_);
+        for (std::size_t o = 0; o < N; ++o) outputs[o] = computed_[o * kLanes + lane];
     }
 
     /// Lanes in use: kLanes, or the genomes' count for the second constructor.

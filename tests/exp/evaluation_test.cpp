@@ -107,6 +107,26 @@ TEST_CASE("policies evaluated in lanes, in batches of any size, equal their eval
     require_evaluate_all_matches_alone(*task, genomes, dnn, {1u, 3u, 16u});
 }
 
+TEST_CASE("evaluate_all refuses a policy whose input or output count is not the task's",
+          "[exp][evaluation]") {
+    const auto task = sim::make_task(sim::TaskConfig{});
+    for (const bool inputs : {true, false}) {
+        nn::DnnConfig dnn;
+        (inputs ? dnn.inputs : dnn.outputs) += 1;  // 13 inputs, or 4 outputs
+        Rng rng(22, 0, 0, Purpose::test);
+        const std::string expected = inputs
+                                         ? "a policy of the task has 12 inputs and 3 outputs, not 13 and 3"
+                                         : "a policy of the task has 12 inputs and 3 outputs, not 12 and 4";
+        // one genome (evaluated alone) and three (in lanes)
+        for (const std::size_t count : {1u, 3u}) {
+            std::vector<nn::Genome> genomes;
+            for (std::size_t k = 0; k < count; ++k)
+                genomes.push_back(nn::Genome::random_perceptron(dnn, rng));
+            REQUIRE_THROWS_WITH(exp::evaluate_all(*task, genomes, dnn, 1, nullptr), expected);
+        }
+    }
+}
+
 TEST_CASE("parallel_for calls the body once for every index and rethrows what a call threw",
           "[exp][evaluation]") {
     std::vector<std::atomic<int>> calls(100);
