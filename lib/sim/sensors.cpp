@@ -87,9 +87,10 @@ std::uint32_t positive_pairs(const std::array<double, kMaxLights>& a, const std:
 // lane's operations the same as in the SSE2 loop; `edges` is the +pi/4
 // window's lo_x, lo_y, hi_x, hi_y. Self-contained: no vector crosses into
 // baseline code.
-[[gnu::target("avx2")]] void window_masks_avx2(const double* xs, const double* ys, std::size_t count, double x,
-                                               double y, double c, double s, const double* edges,
-                                               std::uint32_t& plus, std::uint32_t& minus) {
+[[gnu::target("avx2")]] void window_masks_avx2(const double* xs, const double* ys, std::size_t count,
+                                               std::uint32_t wanted, double x, double y, double c, double s,
+                                               const double* edges, std::uint32_t& plus,
+                                               std::uint32_t& minus) {
     const __m256d vc = _mm256_set1_pd(c);
     const __m256d vs = _mm256_set1_pd(s);
     const __m256d px = _mm256_set1_pd(x);
@@ -102,6 +103,7 @@ std::uint32_t positive_pairs(const std::array<double, kMaxLights>& a, const std:
     std::uint32_t in_plus = 0;
     std::uint32_t in_minus = 0;
     for (std::size_t i = 0; i < count; i += 4) {
+        if (((wanted >> i) & 0xFu) == 0) continue;  // four slots no answer needs
         const __m256d dx = _mm256_sub_pd(_mm256_loadu_pd(xs + i), px);
         const __m256d dy = _mm256_sub_pd(_mm256_loadu_pd(ys + i), py);
         const __m256d u = _mm256_add_pd(_mm256_mul_pd(dx, vc), _mm256_mul_pd(dy, vs));
@@ -326,9 +328,9 @@ SightTable::Cell SightTable::cell(double x, double y, bool door_open) const {
     return {masks_.data() + index * kMaxLights, summary.clear, hidden};
 }
 
-// the hot path: the window tests of every lit light first, without branches
-// on their outcome, then per colour a clear light in a window settles the
-// sensor, hidden lights are dropped, and only the remaining lights test their
+// the hot path: the lights the sight table's cell hides dropped, the window tests of
+// every other lit light, without branches on their outcome, then per colour a clear
+// light in a window settles the sensor, and only the remaining lights test their
 // candidate walls
 void sense(const Arena& arena, const SightTable& sight, const Pose& pose, const WorldState& state,
            SensorReadings& out) {
@@ -366,7 +368,9 @@ void sense_lights(const Arena& arena, const SightTable& sight, const Pose& pose,
     const double s = heading.s;
 
     out.light = {};
-    const std::uint32_t lit = state.lit & ((1u << sight.lights().size()) - 1u);
+    // the lit lights that a wall does not hide from the whole cell: the others never fire a sensor
+    const SightTable::Cell cell = sight.cell(pose.x, pose.y, state.door_open);
+    const std::uint32_t lit = state.lit & ((1u << sight.lights().size()) - 1u) & ~cell.hidden;
     if (lit == 0) return;
     const auto& xs = sight.xs();
     const auto& ys = sight.ys();
@@ -377,7 +381,8 @@ void sense_lights(const Arena& arena, const SightTable& sight, const Pose& pose,
         // padded to kMaxLights, a multiple of 4: the last vector stays inside
         static_assert(kMaxLights % 4 == 0);
         const double edges[4] = {windows.w[0].lo_x, windows.w[0].lo_y, windows.w[0].hi_x, windows.w[0].hi_y};
-        window_masks_avx2(xs.data(), ys.data(), sight.lights().size(), pose.x, pose.y, c, s, edges, plus, minus);
+        window_masks_avx2(xs.data(), ys.data(), sight.lights().size(), lit, pose.x, pose.y, c, s, edges, plus,
+                          minus);
     } else
 #endif
 #if defined(__SSE2__)
@@ -430,12 +435,11 @@ void sense_lights(const Arena& arena, const SightTable& sight, const Pose& pose,
         plus = positive_pairs(plus_lo, plus_hi);
         minus = positive_pairs(minus_lo, minus_hi);
     }
-    // the lit mask drops the slots that hold no lit light
+    // the lit mask drops the slots that hold no lit light, or a hidden one
     plus &= lit;
     minus &= lit;
     if ((plus | minus) == 0) return;
 
-    const SightTable::Cell cell = sight.cell(pose.x, pose.y, state.door_open);
     for (std::size_t kind = 0; kind < 3; ++kind) {
         const std::uint32_t in_plus = plus & sight.kinds()[kind];
         const std::uint32_t in_minus = minus & sight.kinds()[kind];
