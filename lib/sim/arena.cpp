@@ -202,6 +202,7 @@ Arena::Arena(const ArenaSpec& spec) {
         put(closed_, k, real ? walls_[k] : far);
         put(open_, k, real && i != door_index_ ? walls_[k] : far);
     }
+    build_near_grid();
 }
 
 double Arena::ray_distance(double x, double y, double dx, double dy, double range, bool door_open) const {

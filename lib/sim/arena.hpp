@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <span>
 #include <string_view>
+#include <vector>
 
 #include "sim/arena_spec.hpp"
 #include "sim/robot.hpp"
@@ -105,11 +106,25 @@ private:
     template <bool kByAngles>
     [[gnu::noinline]] unsigned bumpers(const Pose& pose, bool door_open, std::uint32_t near) const;
 
+    // the slots (bit k) whose box lies within the robot's radius and a slack of a cell of a
+    // coarse grid over the walls: a superset of any disc_overlaps_lanes() near mask of a centre
+    // in the cell (built in double, each cell grown by a unit, the radius by two units)
+    struct NearGrid {
+        static constexpr double kCell = 20.0;
+        double x0 = 0.0;
+        double y0 = 0.0;
+        std::size_t columns = 0;
+        std::size_t rows = 0;
+        std::vector<std::uint32_t> cells;
+    };
+    void build_near_grid();
+
     std::array<WallBox, kSlots> walls_{};
     int wall_count_ = 0;
     int door_index_ = 0;
     Slots closed_{};
     Slots open_{};
+    NearGrid near_grid_;
 };
 
 }  // namespace stepstone::sim

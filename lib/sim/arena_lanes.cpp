@@ -60,6 +60,29 @@ Walls walls_of(const Slots& closed, const Slots& open, std::size_t door) {
             {open.x0[door], open.x1[door], open.y0[door], open.y1[door]}};
 }
 
+// Arena::NearGrid as the overlap kernel reads it (the grid is private to Arena)
+struct NearCells {
+    const std::uint32_t* cells;
+    double x0;
+    double y0;
+    std::size_t columns;
+    std::size_t rows;
+    std::uint32_t all;  // every slot: a centre off the grid
+};
+
+// the slots a disc centred at (x, y) may come near: its cell's (found by a product: the cells
+// were grown by a unit for it), every slot off the grid or for a NaN
+std::uint32_t near_cell(const NearCells& grid, double x, double y) {
+    constexpr double kInverse = 1.0 / 20.0;  // 1 / Arena::NearGrid::kCell
+    const double column = (x - grid.x0) * kInverse;
+    const double row = (y - grid.y0) * kInverse;
+    if (!(column >= 0.0 && row >= 0.0 && column < static_cast<double>(grid.columns) &&
+          row < static_cast<double>(grid.rows))) {
+        return grid.all;
+    }
+    return grid.cells[static_cast<std::size_t>(row) * grid.columns + static_cast<std::size_t>(column)];
+}
+
 using lanes::load;
 
 // slot k's box in every lane, the door's open box where `open` is set
@@ -138,7 +161,7 @@ template <std::size_t W, class Ints>
 // in turn, the smallest kept; the disc overlaps a wall when it is below r2. near[l] gets the
 // slots (bit k) whose distance is below r2 + margin, near_slots()' `near`.
 template <std::size_t W>
-[[gnu::always_inline]] inline std::uint32_t overlaps_kernel(const Walls& walls, std::size_t slots,
+[[gnu::always_inline]] inline std::uint32_t overlaps_kernel(const Walls& walls, const NearCells& grid,
                                                             const double* x, const double* y,
                                                             std::uint32_t door_open, std::size_t count,
                                                             float margin, std::uint32_t* near) {
@@ -168,7 +191,12 @@ template <std::size_t W>
         const Floats zero = {};
         Floats d2_min = zero + r2;
         Ints near_bits = {};
-        for (std::size_t k = 0; k < slots; ++k) {
+        // only the slots some lane's cell has near: the others are farther than the margin
+        // from every lane (the padding's far centres come near none)
+        std::uint32_t slots = 0;
+        for (std::size_t i = base; i < base + W && i < count; ++i) slots |= near_cell(grid, x[i], y[i]);
+        for (; slots != 0; slots &= slots - 1) {
+            const auto k = static_cast<std::size_t>(std::countr_zero(slots));
             Floats box[4];
             box_of(walls, k, open, box);
             const Floats a = box[0] - cx;
@@ -292,10 +320,10 @@ template <std::size_t W>
 
 #if defined(__x86_64__) || defined(__i386__)
 #define STEPSTONE_SIM_HAVE_AVX2_LANES 1
-[[gnu::target("avx2")]] std::uint32_t overlaps_avx2(const Walls& walls, std::size_t slots, const double* x,
-                                                    const double* y, std::uint32_t door_open,
+[[gnu::target("avx2")]] std::uint32_t overlaps_avx2(const Walls& walls, const NearCells& grid,
+                                                    const double* x, const double* y, std::uint32_t door_open,
                                                     std::size_t count, float margin, std::uint32_t* near) {
-    return overlaps_kernel<8>(walls, slots, x, y, door_open, count, margin, near);
+    return overlaps_kernel<8>(walls, grid, x, y, door_open, count, margin, near);
 }
 
 [[gnu::target("avx2")]] void rays_avx2(const Walls& walls, std::size_t slots, const double* x,
@@ -315,9 +343,11 @@ std::uint32_t Arena::disc_overlaps_lanes(const double* x, const double* y, std::
     std::uint32_t ignored[32];
     if (near == nullptr) near = ignored;
 #ifdef STEPSTONE_SIM_HAVE_AVX2_LANES
-    if (avx2_kernels()) return overlaps_avx2(walls, kSlots, x, y, door_open, count, kNearMargin, near);
+    const NearCells grid{near_grid_.cells.data(), near_grid_.x0,   near_grid_.y0,
+                         near_grid_.columns,      near_grid_.rows, (1u << kSlots) - 1u};
+    if (avx2_kernels()) return overlaps_avx2(walls, grid, x, y, door_open, count, kNearMargin, near);
 #endif
-    return overlaps_kernel<4>(walls, kSlots, x, y, door_open, count, kNearMargin, near);
+    return overlaps_kernel<4>(walls, grid, x, y, door_open, count, kNearMargin, near);
 }
 
 void Arena::ray_distances_lanes(const double* x, const double* y, const double* const (&dx)[3],
@@ -329,6 +359,46 @@ void Arena::ray_distances_lanes(const double* x, const double* y, const double* 
     if (avx2_kernels()) return rays_avx2(walls, kSlots, x, y, dx, dy, range, door_open, count, out);
 #endif
     rays_kernel<4>(walls, kSlots, x, y, dx, dy, range, door_open, count, out);
+}
+
+void Arena::build_near_grid() {
+    static_assert(NearGrid::kCell == 20.0, "near_cell() multiplies by its inverse");
+    // the walls' extent and a cell's margin beyond it: centres farther out are off the grid
+    double lo_x = walls_[0].x0;
+    double lo_y = walls_[0].y0;
+    double hi_x = walls_[0].x1;
+    double hi_y = walls_[0].y1;
+    for (int k = 0; k < wall_count_; ++k) {
+        const WallBox& box = walls_[static_cast<std::size_t>(k)];
+        lo_x = std::min(lo_x, box.x0);
+        lo_y = std::min(lo_y, box.y0);
+        hi_x = std::max(hi_x, box.x1);
+        hi_y = std::max(hi_y, box.y1);
+    }
+    const double reach = kRobotRadius + 2.0;  // the radius, its margin (under a unit) and a unit of slack
+    near_grid_.x0 = lo_x - reach;
+    near_grid_.y0 = lo_y - reach;
+    near_grid_.columns =
+        static_cast<std::size_t>(std::ceil((hi_x + reach - near_grid_.x0) / NearGrid::kCell));
+    near_grid_.rows = static_cast<std::size_t>(std::ceil((hi_y + reach - near_grid_.y0) / NearGrid::kCell));
+    near_grid_.cells.assign(near_grid_.columns * near_grid_.rows, 0u);
+    for (std::size_t row = 0; row < near_grid_.rows; ++row) {
+        for (std::size_t column = 0; column < near_grid_.columns; ++column) {
+            // the cell grown by a unit: a centre's cell found by a product may be a neighbour's
+            const double cx0 = near_grid_.x0 + static_cast<double>(column) * NearGrid::kCell - 1.0;
+            const double cy0 = near_grid_.y0 + static_cast<double>(row) * NearGrid::kCell - 1.0;
+            const double cx1 = cx0 + NearGrid::kCell + 2.0;
+            const double cy1 = cy0 + NearGrid::kCell + 2.0;
+            std::uint32_t near = 0;
+            for (int k = 0; k < wall_count_; ++k) {  // the door as closed: the larger set
+                const WallBox& box = walls_[static_cast<std::size_t>(k)];
+                const double dx = std::max({box.x0 - cx1, cx0 - box.x1, 0.0});
+                const double dy = std::max({box.y0 - cy1, cy0 - box.y1, 0.0});
+                if (dx * dx + dy * dy < reach * reach) near |= 1u << k;
+            }
+            near_grid_.cells[row * near_grid_.columns + column] = near;
+        }
+    }
 }
 
 }  // namespace stepstone::sim

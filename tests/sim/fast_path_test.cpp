@@ -415,3 +415,69 @@ TEST_CASE("rays of many lanes at once read exactly what single rays read, each l
         CHECK(hits > 50'000);
     });
 }
+
+TEST_CASE(
+    "near masks of many centres at once are the plain single-precision distances, whatever the grid cell",
+    "[sim][arena][fast][lanes]") {
+    // the reference: every wall's squared distance in float, as near_slots() takes it, below
+    // r^2 + 1 (the door a wall unless open); the lanes skip the walls their centres' cells rule out
+    const Arena arena;
+    const auto walls = arena.walls();
+    const auto reference = [&](double x, double y, bool open) {
+        std::uint32_t mask = 0;
+        const auto cx = static_cast<float>(x);
+        const auto cy = static_cast<float>(y);
+        for (std::size_t k = 0; k < walls.size(); ++k) {
+            if (open && k == static_cast<std::size_t>(arena.door_index())) continue;
+            const float ex = std::max(
+                std::max(static_cast<float>(walls[k].x0) - cx, cx - static_cast<float>(walls[k].x1)), 0.0f);
+            const float ey = std::max(
+                std::max(static_cast<float>(walls[k].y0) - cy, cy - static_cast<float>(walls[k].y1)), 0.0f);
+            mask |= static_cast<std::uint32_t>(ex * ex + ey * ey <
+                                               static_cast<float>(kRobotRadius * kRobotRadius) + 1.0f)
+                    << k;
+        }
+        return mask;
+    };
+    with_each_kernel([&] {
+        stepstone::Rng rng(37);
+        long near_bits = 0;
+        for (int round = 0; round < 6'000; ++round) {
+            const std::size_t count = 1 + static_cast<std::size_t>(rng.below(32));
+            const auto door_open = static_cast<std::uint32_t>(rng.below(1ull << 32));
+            double xs[32];
+            double ys[32];
+            for (std::size_t l = 0; l < count; ++l) {
+                // about the radius away from a random wall's face or corner, anywhere along it
+                const WallBox& box = walls[static_cast<std::size_t>(rng.below(walls.size()))];
+                const double distance = rng.uniform(18.0, 21.5);
+                const double angle = rng.uniform(-kPi, kPi);
+                const double px = rng.uniform(box.x0, box.x1);
+                const double py = rng.uniform(box.y0, box.y1);
+                switch (rng.below(3)) {
+                    case 0:  // off a vertical face
+                        xs[l] = rng.bernoulli(0.5) ? box.x0 - distance : box.x1 + distance;
+                        ys[l] = py;
+                        break;
+                    case 1:  // off a horizontal face
+                        xs[l] = px;
+                        ys[l] = rng.bernoulli(0.5) ? box.y0 - distance : box.y1 + distance;
+                        break;
+                    default:  // off a corner
+                        xs[l] = (rng.bernoulli(0.5) ? box.x0 : box.x1) + distance * std::cos(angle);
+                        ys[l] = (rng.bernoulli(0.5) ? box.y0 : box.y1) + distance * std::sin(angle);
+                        break;
+                }
+            }
+            std::uint32_t near[32];
+            const std::uint32_t bits = arena.disc_overlaps_lanes(xs, ys, door_open, count, near);
+            for (std::size_t l = 0; l < count; ++l) {
+                const bool open = ((door_open >> l) & 1u) != 0;
+                REQUIRE(near[l] == reference(xs[l], ys[l], open));
+                REQUIRE(((bits >> l) & 1u) == (arena.disc_overlaps(xs[l], ys[l], open) ? 1u : 0u));
+                near_bits += std::popcount(near[l]);
+            }
+        }
+        CHECK(near_bits > 50'000);
+    });
+}
