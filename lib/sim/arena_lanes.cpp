@@ -378,9 +378,13 @@ void Arena::build_near_grid() {
     const double reach = kRobotRadius + 2.0;  // the radius, its margin (under a unit) and a unit of slack
     near_grid_.x0 = lo_x - reach;
     near_grid_.y0 = lo_y - reach;
-    near_grid_.columns =
-        static_cast<std::size_t>(std::ceil((hi_x + reach - near_grid_.x0) / NearGrid::kCell));
-    near_grid_.rows = static_cast<std::size_t>(std::ceil((hi_y + reach - near_grid_.y0) / NearGrid::kCell));
+    const double columns = std::ceil((hi_x + reach - near_grid_.x0) / NearGrid::kCell);
+    const double rows = std::ceil((hi_y + reach - near_grid_.y0) / NearGrid::kCell);
+    // a spec ArenaSpec's parser accepts spans ~33 x 33 cells; anything far larger keeps no grid
+    // (every centre off it: every slot visited)
+    if (!(columns * rows <= 65'536.0)) return;
+    near_grid_.columns = static_cast<std::size_t>(columns);
+    near_grid_.rows = static_cast<std::size_t>(rows);
     near_grid_.cells.assign(near_grid_.columns * near_grid_.rows, 0u);
     for (std::size_t row = 0; row < near_grid_.rows; ++row) {
         for (std::size_t column = 0; column < near_grid_.columns; ++column) {

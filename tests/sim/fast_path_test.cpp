@@ -481,3 +481,28 @@ TEST_CASE(
         CHECK(near_bits > 50'000);
     });
 }
+
+TEST_CASE("an arena far larger than the map keeps no near grid and overlaps as one centre at a time",
+          "[sim][arena][fast][lanes]") {
+    ArenaSpec spec = paper_arena();
+    spec.walls.push_back(WallBox{1e6, 1e6, 1e6 + 10.0, 1e6 + 10.0, "far away"});  // past any parser's map
+    const Arena arena(spec);
+    stepstone::Rng rng(41);
+    long overlaps = 0;
+    for (int round = 0; round < 2'000; ++round) {
+        double xs[8];
+        double ys[8];
+        for (std::size_t l = 0; l < 8; ++l) {
+            const bool far = l % 2 == 0;
+            xs[l] = far ? rng.uniform(1e6 - 30.0, 1e6 + 40.0) : rng.uniform(-30.0, 630.0);
+            ys[l] = far ? rng.uniform(1e6 - 30.0, 1e6 + 40.0) : rng.uniform(-30.0, 430.0);
+        }
+        const std::uint32_t bits = arena.disc_overlaps_lanes(xs, ys, 0u, 8);
+        for (std::size_t l = 0; l < 8; ++l) {
+            const bool alone = arena.disc_overlaps(xs[l], ys[l], false);
+            REQUIRE(((bits >> l) & 1u) == (alone ? 1u : 0u));
+            overlaps += alone ? 1 : 0;
+        }
+    }
+    CHECK(overlaps > 1'000);
+}
