@@ -15,6 +15,16 @@ using namespace stepstone::sim;
 // The hot path's shortcuts must never change an answer: each is checked
 // against the plain query it replaces, bit for bit.
 
+// A lane count of 1 to 32 and each lane's door (bit l: open), drawn in that order.
+struct LaneDraw {
+    std::size_t count;
+    std::uint32_t door_open;
+};
+LaneDraw draw_lanes(stepstone::Rng& rng) {
+    const std::size_t count = 1 + static_cast<std::size_t>(rng.below(32));
+    return {count, static_cast<std::uint32_t>(rng.below(1ull << 32))};
+}
+
 // Runs `check` with the AVX2 kernels off, then on where the CPU has AVX2.
 template <class Check>
 void with_each_kernel(Check&& check) {
@@ -273,10 +283,9 @@ TEST_CASE("disc overlaps of many centres at once equal one at a time, each lane 
         long door_answers_differ = 0;  // centres where the door's state changes the answer
         long bumpers = 0;
         for (int round = 0; round < 4'000; ++round) {
-            const std::size_t count = 1 + static_cast<std::size_t>(rng.below(32));
+            const auto [count, door_open] = draw_lanes(rng);
             double xs[32];
             double ys[32];
-            const auto door_open = static_cast<std::uint32_t>(rng.below(1ull << 32));
             for (std::size_t l = 0; l < count; ++l) {
                 // near a wall's box (the door's in a quarter of the lanes): inside, touching and clear of it
                 const auto walls = arena.walls();
@@ -371,8 +380,7 @@ TEST_CASE("rays of many lanes at once read exactly what single rays read, each l
         stepstone::Rng rng(31);
         long hits = 0;
         for (int round = 0; round < 3'000; ++round) {
-            const std::size_t count = 1 + static_cast<std::size_t>(rng.below(32));
-            const auto door_open = static_cast<std::uint32_t>(rng.below(1ull << 32));
+            const auto [count, door_open] = draw_lanes(rng);
             double xs[32];
             double ys[32];
             double dir_x[3][32];
@@ -443,8 +451,7 @@ TEST_CASE(
         stepstone::Rng rng(37);
         long near_bits = 0;
         for (int round = 0; round < 6'000; ++round) {
-            const std::size_t count = 1 + static_cast<std::size_t>(rng.below(32));
-            const auto door_open = static_cast<std::uint32_t>(rng.below(1ull << 32));
+            const auto [count, door_open] = draw_lanes(rng);
             double xs[32];
             double ys[32];
             for (std::size_t l = 0; l < count; ++l) {
