@@ -85,8 +85,9 @@ std::uint32_t positive_pairs(const std::array<double, kMaxLights>& a, const std:
 #ifdef STEPSTONE_SIM_HAVE_AVX2_KERNEL
 // the mirrored window tests of sense() in AVX2, four slots per vector, every
 // lane's operations the same as in the SSE2 loop; `edges` is the +pi/4
-// window's lo_x, lo_y, hi_x, hi_y. Self-contained: no vector crosses into
-// baseline code.
+// window's lo_x, lo_y, hi_x, hi_y; a group of four slots without a bit of
+// `wanted` is skipped (its bits stay 0). Self-contained: no vector crosses
+// into baseline code.
 [[gnu::target("avx2")]] void window_masks_avx2(const double* xs, const double* ys, std::size_t count,
                                                std::uint32_t wanted, double x, double y, double c, double s,
                                                const double* edges, std::uint32_t& plus,
