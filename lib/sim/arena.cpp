@@ -468,10 +468,6 @@ unsigned bumpers_by_quarters(const WallBox& box, const Pose& pose, double c, dou
     return (left ? kLeft : 0u) | (right ? kRight : 0u) | (sure ? kSure : 0u);
 }
 
-}  // namespace
-
-namespace {
-
 // the contact of a disc that overlaps a wall, from the bumpers' bits: they become bools here,
 // where the caller can keep them in registers
 Contact overlap_contact(unsigned sides) { return Contact{true, (sides & kLeft) != 0, (sides & kRight) != 0}; }

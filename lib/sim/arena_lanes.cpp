@@ -65,6 +65,7 @@ struct NearCells {
     const std::uint32_t* cells;
     double x0;
     double y0;
+    double inverse;  // 1 / Arena::NearGrid::kCell
     std::size_t columns;
     std::size_t rows;
     std::uint32_t all;  // every slot: a centre off the grid
@@ -73,9 +74,8 @@ struct NearCells {
 // the slots a disc centred at (x, y) may come near: its cell's (found by a product: the cells
 // were grown by a unit for it), every slot off the grid or for a NaN
 std::uint32_t near_cell(const NearCells& grid, double x, double y) {
-    constexpr double kInverse = 1.0 / 20.0;  // 1 / Arena::NearGrid::kCell
-    const double column = (x - grid.x0) * kInverse;
-    const double row = (y - grid.y0) * kInverse;
+    const double column = (x - grid.x0) * grid.inverse;
+    const double row = (y - grid.y0) * grid.inverse;
     if (!(column >= 0.0 && row >= 0.0 && column < static_cast<double>(grid.columns) &&
           row < static_cast<double>(grid.rows))) {
         return grid.all;
@@ -98,20 +98,6 @@ template <class Floats, class Ints>
     for (std::size_t i = 0; i < 4; ++i) box[i] = open != 0 ? zero + walls.open_door[i] : box[i];
 }
 
-// a Floats' lanes as two halves of W/2: doubles, and floats (one specialisation a width)
-template <std::size_t W>
-struct Halves;
-template <>
-struct Halves<4> {
-    using Doubles = double __attribute__((vector_size(16)));
-    using Floats = float __attribute__((vector_size(8)));
-};
-template <>
-struct Halves<8> {
-    using Doubles = double __attribute__((vector_size(32)));
-    using Floats = float __attribute__((vector_size(16)));
-};
-
 // ray_distance()'s guard against a zero component, in double before the conversion to float: the
 // same float, as 1e-30 converts to 1e-30f
 static_assert(static_cast<float>(1e-30) == 1e-30f);
@@ -119,8 +105,9 @@ static_assert(static_cast<float>(1e-30) == 1e-30f);
 // values[0, W) as W floats, with ray_distance()'s guard when kGuard: fabs(v) < 1e-30 becomes 1e-30
 template <std::size_t W, bool kGuard, class Floats, std::size_t... I>
 [[gnu::always_inline]] inline void floats_of(const double* values, Floats& out, std::index_sequence<I...>) {
-    using Doubles = typename Halves<W>::Doubles;
-    using HalfFloats = typename Halves<W>::Floats;
+    // a Floats' lanes as two halves of W/2
+    using Doubles = typename lanes::DoubleVectors<W / 2>::Doubles;
+    using HalfFloats = typename lanes::DoubleVectors<W / 2>::Floats;
     Doubles half[2];
     load(half[0], values);
     load(half[1], values + W / 2);
@@ -139,7 +126,7 @@ template <std::size_t W, bool kGuard, class Floats, std::size_t... I>
 template <std::size_t W, class Floats, std::size_t... I>
 [[gnu::always_inline]] inline void distances_of(const Floats& distances, double range, double* out,
                                                 std::index_sequence<I...>) {
-    using Doubles = typename Halves<W>::Doubles;
+    using Doubles = typename lanes::DoubleVectors<W / 2>::Doubles;
     const auto low = __builtin_shufflevector(distances, distances, I...);
     const auto high = __builtin_shufflevector(distances, distances, (I + W / 2)...);
     const Doubles d[2] = {__builtin_convertvector(low, Doubles), __builtin_convertvector(high, Doubles)};
@@ -147,6 +134,21 @@ template <std::size_t W, class Floats, std::size_t... I>
         const Doubles kept = d[h] <= range ? d[h] : Doubles{} - 1.0;
         std::memcpy(out + h * (W / 2), &kept, sizeof kept);
     }
+}
+
+// The inputs of lanes [base, base + W), `in[k]` pointing at input k's lane `base`: read in
+// place, or, for the last and partial block, copied into `block` with the padding at kNowhere
+// (far from every wall; its results are never read) and `in` pointed there. True for a partial
+// block.
+template <std::size_t W, std::size_t N>
+[[gnu::always_inline]] inline bool pad_block(const double* (&in)[N], std::size_t base, std::size_t count,
+                                             double (&block)[N][W]) {
+    if (base + W <= count) return false;
+    for (std::size_t k = 0; k < N; ++k) {
+        for (std::size_t i = 0; i < W; ++i) block[k][i] = base + i < count ? in[k][i] : kNowhere;
+        in[k] = block[k];
+    }
+    return true;
 }
 
 // -1 in lane i of `open` where bit base + i of `door_open` is set (each lane's door)
@@ -171,17 +173,9 @@ template <std::size_t W>
     const float r2_near = r2 + margin;
     std::uint32_t bits = 0;
     for (std::size_t base = 0; base < count; base += W) {
-        // the centres of lanes [base, base + W), read in place, or copied for the last block with
-        // its padding far from every wall
         const double* centre[2] = {x + base, y + base};
         alignas(32) double block[2][W];
-        const bool partial = base + W > count;
-        if (partial) {
-            for (std::size_t k = 0; k < 2; ++k) {
-                for (std::size_t i = 0; i < W; ++i) block[k][i] = base + i < count ? centre[k][i] : kNowhere;
-                centre[k] = block[k];
-            }
-        }
+        const bool partial = pad_block(centre, base, count, block);
         Floats cx;
         Floats cy;
         floats_of<W, false>(centre[0], cx, std::make_index_sequence<W>{});
@@ -216,13 +210,12 @@ template <std::size_t W>
         std::uint32_t block_bits = 0;
         for (std::size_t i = 0; i < W; ++i) block_bits |= static_cast<std::uint32_t>(below[i] != 0) << i;
         bits |= block_bits << base;  // (the padding, far from every wall, sets none)
-        const std::size_t lanes = partial ? count - base : W;
         if (!partial) {
             std::memcpy(near + base, &near_bits, sizeof near_bits);
         } else {
             alignas(32) std::uint32_t lanes_near[W];
             std::memcpy(lanes_near, &near_bits, sizeof near_bits);
-            std::copy(lanes_near, lanes_near + lanes, near + base);
+            std::copy(lanes_near, lanes_near + (count - base), near + base);
         }
     }
     return bits;
@@ -243,21 +236,13 @@ template <std::size_t W>
     constexpr auto kAll = std::make_index_sequence<W>{};
     constexpr auto kHalf = std::make_index_sequence<W / 2>{};
     for (std::size_t base = 0; base < count; base += W) {
-        // the inputs of lanes [base, base + W), read in place, or copied for the last block with
-        // its padding repeating the block's first lane
         const double* in[8] = {x + base, y + base};
         for (std::size_t r = 0; r < 3; ++r) {
             in[2 + 2 * r] = dx[r] + base;
             in[3 + 2 * r] = dy[r] + base;
         }
         alignas(32) double block[8][W];
-        const bool partial = base + W > count;
-        if (partial) {
-            for (std::size_t k = 0; k < 8; ++k) {
-                for (std::size_t i = 0; i < W; ++i) block[k][i] = in[k][base + i < count ? i : 0];
-                in[k] = block[k];
-            }
-        }
+        const bool partial = pad_block(in, base, count, block);
         Floats ox;
         Floats oy;
         floats_of<W, false>(in[0], ox, kAll);
@@ -342,9 +327,9 @@ std::uint32_t Arena::disc_overlaps_lanes(const double* x, const double* y, std::
     const Walls walls = walls_of(closed_, open_, static_cast<std::size_t>(door_index_));
     std::uint32_t ignored[32];
     if (near == nullptr) near = ignored;
-#ifdef STEPSTONE_SIM_HAVE_AVX2_LANES
-    const NearCells grid{near_grid_.cells.data(), near_grid_.x0,   near_grid_.y0,
+    const NearCells grid{near_grid_.cells.data(), near_grid_.x0,   near_grid_.y0,      1.0 / NearGrid::kCell,
                          near_grid_.columns,      near_grid_.rows, (1u << kSlots) - 1u};
+#ifdef STEPSTONE_SIM_HAVE_AVX2_LANES
     if (avx2_kernels()) return overlaps_avx2(walls, grid, x, y, door_open, count, kNearMargin, near);
 #endif
     return overlaps_kernel<4>(walls, grid, x, y, door_open, count, kNearMargin, near);
@@ -362,7 +347,6 @@ void Arena::ray_distances_lanes(const double* x, const double* y, const double* 
 }
 
 void Arena::build_near_grid() {
-    static_assert(NearGrid::kCell == 20.0, "near_cell() multiplies by its inverse");
     // the walls' extent and a cell's margin beyond it: centres farther out are off the grid
     double lo_x = walls_[0].x0;
     double lo_y = walls_[0].y0;

@@ -69,30 +69,13 @@ Pose move_pose(const Pose& pose, double left, double right) {
 
 namespace {
 
-// W lanes a vector (GCC's vector extension; one specialisation a width, as GCC drops a
-// vector_size that depends on a template argument)
-template <std::size_t W>
-struct MoveVectors;
-template <>
-struct MoveVectors<2> {  // one SSE register
-    using Doubles = double __attribute__((vector_size(16)));
-    using Floats = float __attribute__((vector_size(8)));
-    using Longs = std::int64_t __attribute__((vector_size(16)));
-};
-template <>
-struct MoveVectors<4> {  // one AVX register
-    using Doubles = double __attribute__((vector_size(32)));
-    using Floats = float __attribute__((vector_size(16)));
-    using Longs = std::int64_t __attribute__((vector_size(32)));
-};
-
 // move_lanes() W lanes a vector: every expression as move_pose()'s, both of its branches
 // computed and one chosen by lane
 template <std::size_t W>
 [[gnu::always_inline]] inline void move_kernel(MoveLanes& lanes) {
-    using Doubles = typename MoveVectors<W>::Doubles;
-    using Floats = typename MoveVectors<W>::Floats;
-    using Longs = typename MoveVectors<W>::Longs;
+    using Doubles = typename lanes::DoubleVectors<W>::Doubles;
+    using Floats = typename lanes::DoubleVectors<W>::Floats;
+    using Longs = typename lanes::DoubleVectors<W>::Longs;
     constexpr std::size_t kWidth = W;
     constexpr std::size_t kMax = MoveLanes::kMaxLanes;
     const std::size_t n = lanes.count;

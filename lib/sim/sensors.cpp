@@ -446,7 +446,8 @@ void sense_lights(const Arena& arena, const SightTable& sight, const Pose& pose,
         const std::uint32_t in_minus = minus & sight.kinds()[kind];
         bool seen_plus = (in_plus & cell.clear) != 0;
         bool seen_minus = (in_minus & cell.clear) != 0;
-        for (std::uint32_t rest = (in_plus | in_minus) & ~(cell.clear | cell.hidden); rest != 0; rest &= rest - 1) {
+        // (the hidden lights are out of `lit` already)
+        for (std::uint32_t rest = (in_plus | in_minus) & ~cell.clear; rest != 0; rest &= rest - 1) {
             const int i = std::countr_zero(rest);
             const bool p = ((in_plus >> i) & 1u) != 0;
             const bool m = ((in_minus >> i) & 1u) != 0;
