@@ -166,7 +166,7 @@ Network::Network(const Genome& genome, const DnnConfig& config, Layout layout, S
         scaled_biases_[k] = developed_scaled_bias(genome.biases()[input_count_ + k], config);
     }
 
-    avx2_ = simd == Simd::automatic && cpu_has_avx2();
+    avx2_ = simd != Simd::baseline && cpu_has_avx2();
     if (layout == Layout::automatic) {
         // one row per input and hidden neuron (outputs are never sources)
         const std::size_t cells = (neuron_count_ - output_count_) * padded_;

@@ -43,9 +43,11 @@ class Network {
 public:
     /// How the weights are stored; `automatic` picks the faster for the shape.
     enum class Layout : std::uint8_t { automatic, dense, sparse };
-    /// Vector instructions of the step: `automatic` uses AVX2 where the CPU
-    /// has it, `baseline` only those of the build target (SSE2 on x86-64).
-    enum class Simd : std::uint8_t { automatic, baseline };
+    /// Vector instructions of the step: `automatic` uses the widest the CPU
+    /// has and core/cpu.hpp allows (AVX-512 where NetworkLanes has a build for
+    /// it, AVX2), `avx2` at most AVX2, `baseline` only those of the build
+    /// target (SSE2 on x86-64). Every choice gives the same bits.
+    enum class Simd : std::uint8_t { automatic, avx2, baseline };
 
     /// An empty network (no neuron); step() must not be called on it.
     Network() = default;

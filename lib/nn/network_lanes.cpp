@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "core/assert.hpp"
+#include "core/cpu.hpp"
 #include "core/error.hpp"
 #include "nn/activation.hpp"
 
@@ -18,10 +19,14 @@ namespace {
 // baseline build.
 typedef float Lanes __attribute__((vector_size(NetworkLanes::kLanes * sizeof(float))));
 constexpr std::size_t kLanes = NetworkLanes::kLanes;
+// Two columns' lanes: an AVX-512 register.
+typedef float PairLanes __attribute__((vector_size(2 * NetworkLanes::kLanes * sizeof(float))));
 
 // Columns summed in one pass over the rows: their accumulators, the row's
-// states and a product fill the 16 AVX registers.
+// states and a product fill the 16 AVX registers, or (the AVX-512 build, 32
+// registers) every column of a 12-15-3 network.
 constexpr std::size_t kBlockColumns = 12;
+constexpr std::size_t kWideBlockColumns = 18;
 
 struct LaneStep {
     const float* weights;        // rows x columns x kLanes
@@ -47,38 +52,50 @@ template <std::size_t Columns>
     for (std::size_t r = 0; r < s.rows; ++r, w += s.columns * kLanes) {
         Lanes x;
         load(x, s.states + r * kLanes);
-#pragma GCC unroll 12
+#pragma GCC unroll 18
         for (std::size_t c = 0; c < Columns; ++c) {
             Lanes weights;
             load(weights, w + c * kLanes);
             acc[c] += x * weights;
         }
     }
-#pragma GCC unroll 12
+#pragma GCC unroll 18
     for (std::size_t c = 0; c < Columns; ++c) store(s.computed + (first + c) * kLanes, acc[c]);
 }
 
 template <std::size_t... Sizes>
 [[gnu::always_inline]] inline void column_tail(const LaneStep& s, std::size_t first, std::size_t count,
                                                std::index_sequence<Sizes...>) {
-    // the block of the remaining `count` columns, 1 <= count < kBlockColumns
+    // the block of the remaining `count` columns, 1 <= count <= sizeof...(Sizes)
     ((count == Sizes + 1 ? column_block<Sizes + 1>(s, first) : void()), ...);
 }
 
+// Sigmoids of the columns from `first`, `Wide` holding one or two columns' lanes.
+// A sigmoid is a long chain of dependent operations (the exponential's
+// polynomial, a division); with two columns a vector the same chains take half
+// the instructions, so twice as many are in flight at once.
+template <class Wide>
+[[gnu::always_inline]] inline std::size_t sigmoid_columns(const LaneStep& s, std::size_t first) {
+    constexpr std::size_t kColumns = sizeof(Wide) / sizeof(Lanes);
+    std::size_t c = first;
+    for (; c + kColumns <= s.columns; c += kColumns) {
+        Wide bias;
+        Wide sum;
+        std::memcpy(&bias, s.scaled_biases + c * kLanes, sizeof bias);
+        std::memcpy(&sum, s.computed + c * kLanes, sizeof sum);
+        sigmoid_lanes(bias, sum);
+        std::memcpy(s.computed + c * kLanes, &sum, sizeof sum);
+    }
+    return c;
+}
+
+template <std::size_t Block, class Wide>
 [[gnu::always_inline]] inline void lane_step(const LaneStep& s) {
     std::size_t first = 0;
-    for (; first + kBlockColumns <= s.columns; first += kBlockColumns) column_block<kBlockColumns>(s, first);
-    if (first < s.columns)
-        column_tail(s, first, s.columns - first, std::make_index_sequence<kBlockColumns - 1>{});
+    for (; first + Block <= s.columns; first += Block) column_block<Block>(s, first);
+    if (first < s.columns) column_tail(s, first, s.columns - first, std::make_index_sequence<Block - 1>{});
     // every sum's sigmoid, once the sums are out of registers
-    for (std::size_t c = 0; c < s.columns; ++c) {
-        Lanes bias;
-        Lanes sum;
-        load(bias, s.scaled_biases + c * kLanes);
-        load(sum, s.computed + c * kLanes);
-        sigmoid_lanes(bias, sum);
-        store(s.computed + c * kLanes, sum);
-    }
+    sigmoid_columns<Lanes>(s, sigmoid_columns<Wide>(s, 0));
     // the new hidden states become the next step's rows (every sum above read the old ones)
     const std::size_t hidden = s.columns - s.output_count;
     std::memcpy(s.states + s.input_count * kLanes, s.computed + s.output_count * kLanes,
@@ -86,10 +103,14 @@ template <std::size_t... Sizes>
 }
 
 // built twice from the same source, as Network's kernels are: both compute the same bits
-void lane_step_baseline(const LaneStep& s) { lane_step(s); }
+void lane_step_baseline(const LaneStep& s) { lane_step<kBlockColumns, Lanes>(s); }
 
 #if defined(__x86_64__) || defined(__i386__)
-[[gnu::target("avx2")]] void lane_step_avx2(const LaneStep& s) { lane_step(s); }
+[[gnu::target("avx2")]] void lane_step_avx2(const LaneStep& s) { lane_step<kBlockColumns, Lanes>(s); }
+
+[[gnu::target("avx2,avx512f,avx512vl,avx512dq")]] void lane_step_avx512(const LaneStep& s) {
+    lane_step<kWideBlockColumns, PairLanes>(s);
+}
 #endif
 
 }  // namespace
@@ -119,7 +140,8 @@ NetworkLanes::NetworkLanes(std::size_t inputs, std::size_t outputs, std::size_t 
       output_count_(outputs),
       rows_(inputs + max_hidden),
       columns_(outputs + max_hidden),
-      avx2_(simd == Network::Simd::automatic && cpu_has_avx2()) {
+      avx2_(simd != Network::Simd::baseline && cpu_has_avx2()),
+      avx512_(simd == Network::Simd::automatic && avx512_kernels_allowed()) {
     weights_.assign(rows_ * columns_ * kLanes, 0.0f);
     scaled_biases_.assign(columns_ * kLanes, 0.0f);
     states_.assign(rows_ * kLanes, 0.0f);
@@ -170,6 +192,7 @@ void NetworkLanes::step() {
     const LaneStep s{weights_.data(), scaled_biases_.data(), states_.data(), computed_.data(), rows_,
                      columns_,        input_count_,          output_count_};
 #if defined(__x86_64__) || defined(__i386__)
+    if (avx512_) return lane_step_avx512(s);
     if (avx2_) return lane_step_avx2(s);
 #endif
     lane_step_baseline(s);

@@ -91,6 +91,7 @@ private:
     std::size_t rows_ = 0;     // inputs + the room for hidden neurons
     std::size_t columns_ = 0;  // outputs + the room for hidden neurons
     bool avx2_ = false;
+    bool avx512_ = false;
     std::vector<float> weights_;        // rows_ x columns_ x kLanes
     std::vector<float> scaled_biases_;  // columns_ x kLanes (padding 0)
     std::vector<float> states_;         // rows_ x kLanes: inputs, then hidden states

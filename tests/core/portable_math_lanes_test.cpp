@@ -55,22 +55,25 @@ std::vector<double> arguments() {
 
 }  // namespace
 
-TEST_CASE("sincos_lanes gives portable::sincos's bits on every argument, AVX2 and generic builds",
+TEST_CASE("sincos_lanes gives portable::sincos's bits on every argument, AVX-512, AVX2 and generic builds",
           "[core][math]") {
     const std::vector<double> xs = arguments();
     std::vector<double> s(xs.size());
     std::vector<double> c(xs.size());
+    std::vector<double> as(xs.size());
+    std::vector<double> ac(xs.size());
     std::vector<double> gs(xs.size());
     std::vector<double> gc(xs.size());
     portable::sincos_lanes(xs.data(), s.data(), c.data(), xs.size());
+    portable::sincos_lanes_avx2(xs.data(), as.data(), ac.data(), xs.size());
     portable::sincos_lanes_generic(xs.data(), gs.data(), gc.data(), xs.size());
     std::size_t differences = 0;
     for (std::size_t i = 0; i < xs.size(); ++i) {
         double es = 0.0;
         double ec = 0.0;
         portable::sincos(xs[i], es, ec);
-        const bool same = bits(s[i]) == bits(es) && bits(c[i]) == bits(ec) && bits(gs[i]) == bits(es) &&
-                          bits(gc[i]) == bits(ec);
+        const bool same = bits(s[i]) == bits(es) && bits(c[i]) == bits(ec) && bits(as[i]) == bits(es) &&
+                          bits(ac[i]) == bits(ec) && bits(gs[i]) == bits(es) && bits(gc[i]) == bits(ec);
         if (!same && differences++ < 5) {
             UNSCOPED_INFO("x = " << std::hexfloat << xs[i] << ": lanes " << s[i] << ", " << c[i]
                                  << "; scalar " << es << ", " << ec);
@@ -81,7 +84,7 @@ TEST_CASE("sincos_lanes gives portable::sincos's bits on every argument, AVX2 an
 
 TEST_CASE("sincos_lanes fills every count, tails included, and leaves the rest of the arrays alone",
           "[core][math]") {
-    const std::vector<double> xs = {0.1, -2.5, 3.0, 1.0, -0.7, 2.2, -3.1, 0.05, 1.5, -1.5, 0.3};
+    const std::vector<double> xs = {0.1, -2.5, 3.0, 1.0, -0.7, 2.2, -3.1, 0.05, 1.5, -1.5, 0.3, 2.9, -0.4};
     for (std::size_t count = 0; count <= xs.size(); ++count) {
         std::vector<double> s(xs.size() + 1, 7.0);
         std::vector<double> c(xs.size() + 1, 7.0);
@@ -102,13 +105,18 @@ TEST_CASE("sincos_lanes fills every count, tails included, and leaves the rest o
 
 TEST_CASE("sincos_lanes of a NaN or an infinity is NaN, as the scalar function's", "[core][math]") {
     const double nan = std::numeric_limits<double>::quiet_NaN();
-    const double xs[4] = {nan, INFINITY, -INFINITY, 1.0};
-    double s[4];
-    double c[4];
-    portable::sincos_lanes(xs, s, c, 4);
-    for (int i = 0; i < 3; ++i) {
-        CHECK(std::isnan(s[i]));
-        CHECK(std::isnan(c[i]));
+    // a vector of eight (AVX-512), one of four (AVX2) and a lane alone
+    const double xs[13] = {nan, INFINITY, -INFINITY, 1.0,       1.0, 1.0, 1.0,
+                           1.0, nan,      INFINITY,  -INFINITY, 1.0, nan};
+    double s[13];
+    double c[13];
+    portable::sincos_lanes(xs, s, c, 13);
+    for (int i = 0; i < 13; ++i) {
+        if (xs[i] == 1.0) {
+            CHECK(s[i] == portable::sin(1.0));
+        } else {
+            CHECK(std::isnan(s[i]));
+            CHECK(std::isnan(c[i]));
+        }
     }
-    CHECK(s[3] == portable::sin(1.0));
 }

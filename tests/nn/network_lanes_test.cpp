@@ -19,14 +19,15 @@ using stepstone::reference::ReferenceNetwork;
 
 namespace {
 
-// Steps `genomes` in lanes (with either instruction set) and each alone
+// Steps `genomes` in lanes (with each instruction set: AVX-512, AVX2 and the
+// build target's, where the CPU has them) and each alone
 // through ReferenceNetwork on the same inputs; every lane's outputs must be
 // its reference's bit for bit at every step, across a reset.
 void require_lanes_equal_references(const std::vector<Genome>& genomes, Rng& rng, int steps) {
     const DnnConfig config;
     std::vector<const Genome*> batch;
     for (const Genome& genome : genomes) batch.push_back(&genome);
-    for (auto simd : {Network::Simd::automatic, Network::Simd::baseline}) {
+    for (auto simd : {Network::Simd::automatic, Network::Simd::avx2, Network::Simd::baseline}) {
         NetworkLanes lanes(batch, config, simd);
         REQUIRE(lanes.lanes() == genomes.size());
         std::vector<std::unique_ptr<ReferenceNetwork>> references;
@@ -96,9 +97,11 @@ TEST_CASE("each lane steps as its network alone would, whatever its neighbours",
     CHECK(recurrent_batches > 100);  // most lanes had hidden neurons
 }
 
-TEST_CASE("batches of every column count, across the kernel's blocks of 12", "[nn][network][lanes]") {
+TEST_CASE("batches of every column count, across the kernels' blocks of 12 and 18", "[nn][network][lanes]") {
     // the largest network of the batch sets the columns: 3 outputs + 0 to 30
-    // hidden neurons, so every block tail of 1 to 11 columns is met
+    // hidden neurons, so every block tail of 1 to 11 (AVX2) and 1 to 17
+    // (AVX-512) columns is met, and odd counts leave a sigmoid of one column
+    // after the AVX-512 build's pairs
     Rng rng(32);
     for (std::size_t hidden = 0; hidden <= 30; ++hidden) {
         std::vector<Genome> genomes;
