@@ -85,7 +85,8 @@ template <std::size_t W>
         lanes.left[l] = lanes.right[l] = 0.5f;
     }
     // the angles: the new heading of every lane, then the turn and the rotation of every lane
-    // (asked for in every lane; a straight lane ignores them)
+    // (asked for in every lane; a straight lane ignores them), `padded` apart so that one call
+    // takes their sines and cosines
     // (no initialiser: the loop below writes every lane sincos_lanes() reads, padding included)
     alignas(64) std::array<double, 3 * kMax> angles;
     alignas(64) std::array<double, 3 * kMax> sines;
@@ -114,30 +115,32 @@ template <std::size_t W>
         const Doubles rotation = heading - kPi / 2.0;
         std::memcpy(&left[l], &a, sizeof a);
         std::memcpy(&angles[l], &next, sizeof next);
-        std::memcpy(&angles[kMax + l], &alpha, sizeof alpha);
-        std::memcpy(&angles[2 * kMax + l], &rotation, sizeof rotation);
+        std::memcpy(&angles[padded + l], &alpha, sizeof alpha);
+        std::memcpy(&angles[2 * padded + l], &rotation, sizeof rotation);
     }
     bool any_wrapped_twice = false;
     for (std::size_t i = 0; i < kWidth; ++i) any_wrapped_twice |= wrapped_twice[i] != 0;
     if (any_wrapped_twice) {
         for (std::size_t l = 0; l < n; ++l) {
-            const double alpha = angles[kMax + l];
+            const double alpha = angles[padded + l];
             if (!is_straight(alpha)) angles[l] = heading_after(Pose{0.0, 0.0, lanes.heading[l]}, alpha);
         }
     }
-    for (std::size_t part = 0; part < 3; ++part) {
-        portable::sincos_lanes(&angles[part * kMax], &sines[part * kMax], &cosines[part * kMax], padded);
-    }
+    // (GCC cannot tell that the loop above wrote all 3 * padded angles)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+    portable::sincos_lanes(angles.data(), sines.data(), cosines.data(), 3 * padded);
+#pragma GCC diagnostic pop
     for (std::size_t l = 0; l < padded; l += kWidth) {
         Doubles a, alpha, hc, hs, tc, ts, rc, rs, x0, y0;
         load(a, &left[l]);
-        load(alpha, &angles[kMax + l]);
+        load(alpha, &angles[padded + l]);
         load(hc, &cosines[l]);
         load(hs, &sines[l]);
-        load(tc, &cosines[kMax + l]);
-        load(ts, &sines[kMax + l]);
-        load(rc, &cosines[2 * kMax + l]);
-        load(rs, &sines[2 * kMax + l]);
+        load(tc, &cosines[padded + l]);
+        load(ts, &sines[padded + l]);
+        load(rc, &cosines[2 * padded + l]);
+        load(rs, &sines[2 * padded + l]);
         load(x0, &lanes.x[l]);
         load(y0, &lanes.y[l]);
         // move_arc()'s arithmetic
