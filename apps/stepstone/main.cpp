@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "core/cpu.hpp"
 #include "core/error.hpp"
 #include "core/math_fingerprint.hpp"
 #include "core/text.hpp"
@@ -211,7 +212,8 @@ std::string unknown_option(const CLI::App& app, int argc, char** argv) {
 }
 
 // which builds of the hand-written kernels this process runs: "avx2", "generic" (a CPU without
-// AVX2, or STEPSTONE_NO_AVX2 set: core/cpu.hpp), or the modules that differ
+// AVX2, or STEPSTONE_NO_AVX2 set: core/cpu.hpp), or the modules that differ; then the modules
+// whose AVX-512 builds run (a CPU with AVX-512, STEPSTONE_NO_AVX512 unset)
 std::string kernels() {
     const std::vector<std::pair<const char*, bool>> modules{
         {"sim", stepstone::sim::avx2_kernels()},
@@ -224,9 +226,12 @@ std::string kernels() {
         std::string& list = on ? avx2 : generic;
         list += (list.empty() ? "" : " ") + std::string(name);
     }
-    if (generic.empty()) return "avx2";
+    // the modules with AVX-512 builds: the lanes' sine and cosine (core), the networks' sigmoids in
+    // lanes (nn)
+    const std::string avx512 = stepstone::avx512_kernels_allowed() ? ", avx-512 in core nn" : "";
+    if (generic.empty()) return "avx2" + avx512;
     if (avx2.empty()) return "generic";
-    return "avx2 in " + avx2 + ", generic in " + generic;
+    return "avx2 in " + avx2 + ", generic in " + generic + avx512;
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "core/cpu.hpp"
 #include "db/connection.hpp"
 #include "db/database.hpp"
 #include "db/inspect.hpp"
@@ -67,8 +68,10 @@ TEST_CASE(
     REQUIRE(elsewhere.exit_code == 0);
     CHECK(fingerprint_of(elsewhere).size() == 16);
     CHECK(fingerprint_of(elsewhere) != fingerprint);
-    // every module's own kernels: the AVX2 builds here, the generic ones there
-    CHECK_THAT(here.out, Contains("kernels avx2)"));
+    // every module's own kernels: the AVX2 builds here (and AVX-512 ones where built and the CPU
+    // has it), the generic ones there
+    CHECK_THAT(here.out,
+               Contains(avx512_kernels_allowed() ? "kernels avx2, avx-512 in core nn)" : "kernels avx2)"));
     CHECK_THAT(elsewhere.out, Contains("kernels generic)"));
 }
 
@@ -176,6 +179,12 @@ TEST_CASE(
     const auto portable = digests("portable");
     CHECK(portable.first.size() == 33);
     CHECK(portable.first == portable.second);
+    // and with the AVX2 builds where this machine would take AVX-512 ones
+    REQUIRE(test::run_program({"/usr/bin/env", "STEPSTONE_NO_AVX512=1", STEPSTONE_BINARY, "evolve",
+                               "--config", (dir / "portable.json").string(), "--db",
+                               (dir / "portable-avx2.db").string(), "--quiet"})
+                .exit_code == 0);
+    CHECK(test::run_cli({"db", "digest", (dir / "portable-avx2.db").string()}).out == portable.first);
     CHECK(portable.first != libm.first);
     // a config that names no math is portable: one digest on both machines, the portable one
     const auto by_default = digests("default");
