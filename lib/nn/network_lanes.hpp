@@ -4,6 +4,7 @@
 #include <span>
 #include <vector>
 
+#include "core/aligned.hpp"
 #include "core/assert.hpp"
 #include "nn/dnn_config.hpp"
 #include "nn/genome.hpp"
@@ -92,10 +93,11 @@ private:
     std::size_t columns_ = 0;  // outputs + the room for hidden neurons
     bool avx2_ = false;
     bool avx512_ = false;
-    std::vector<float> weights_;        // rows_ x columns_ x kLanes
-    std::vector<float> scaled_biases_;  // columns_ x kLanes (padding 0)
-    std::vector<float> states_;         // rows_ x kLanes: inputs, then hidden states
-    std::vector<float> computed_;       // columns_ x kLanes: outputs, then hidden, after a step
+    // (on cache lines: the kernels load one or two columns' lanes at a time, 32 or 64 bytes)
+    CacheAlignedVector<float> weights_;        // rows_ x columns_ x kLanes
+    CacheAlignedVector<float> scaled_biases_;  // columns_ x kLanes (padding 0)
+    CacheAlignedVector<float> states_;         // rows_ x kLanes: inputs, then hidden states
+    CacheAlignedVector<float> computed_;       // columns_ x kLanes: outputs, then hidden, after a step
 };
 
 }  // namespace stepstone::nn

@@ -109,8 +109,9 @@ private:
     std::size_t cell_index(double x, double y) const;
 
     std::vector<Light> lights_;
-    std::array<double, kMaxLights> xs_{};
-    std::array<double, kMaxLights> ys_{};
+    // (on cache lines: the window kernels load four or two lights' coordinates at a time)
+    alignas(64) std::array<double, kMaxLights> xs_{};
+    alignas(64) std::array<double, kMaxLights> ys_{};
     std::array<std::uint32_t, 3> kinds_{};
     std::vector<std::uint16_t> masks_;  // [row][column][light], stride kMaxLights; one more cell: off the grid
     struct Summary {
