@@ -97,9 +97,13 @@ template <std::size_t Block, class Wide>
     // every sum's sigmoid, once the sums are out of registers
     sigmoid_columns<Lanes>(s, sigmoid_columns<Wide>(s, 0));
     // the new hidden states become the next step's rows (every sum above read the old ones)
-    const std::size_t hidden = s.columns - s.output_count;
-    std::memcpy(s.states + s.input_count * kLanes, s.computed + s.output_count * kLanes,
-                hidden * kLanes * sizeof(float));
+    // (a vector a column, inline: a call of memcpy cost more than the copy)
+    float* to = s.states + s.input_count * kLanes;
+    for (std::size_t c = s.output_count; c < s.columns; ++c, to += kLanes) {
+        Lanes state;
+        load(state, s.computed + c * kLanes);
+        store(to, state);
+    }
 }
 
 // built twice from the same source, as Network's kernels are: both compute the same bits
