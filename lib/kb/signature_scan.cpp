@@ -148,6 +148,28 @@ SignatureScan::Query SignatureScan::Queries::operator[](std::size_t i) const {
     return q;
 }
 
+namespace {
+
+// max(0, |values[k]|...) as a left fold of std::max over k, which skips NaN (std::max(m, NaN)
+// is m) and is otherwise the largest magnitude: the same whatever the order, so eight running
+// maxima, which the compiler keeps in one vector, give the fold's value without its chain of
+// dependent steps
+float largest_magnitude(const float* values, std::size_t count) {
+    constexpr std::size_t kRunning = 8;
+    float running[kRunning] = {};
+    std::size_t k = 0;
+    for (; k + kRunning <= count; k += kRunning) {
+        for (std::size_t u = 0; u < kRunning; ++u)
+            running[u] = std::max(running[u], std::fabs(values[k + u]));
+    }
+    for (; k < count; ++k) running[0] = std::max(running[0], std::fabs(values[k]));
+    float largest = 0.0f;
+    for (const float m : running) largest = std::max(largest, m);
+    return largest;
+}
+
+}  // namespace
+
 SignatureScan::Queries SignatureScan::prepare(const float* queries, std::size_t count) const {
     Queries out;
     const std::size_t nb = binary_.size();
@@ -173,25 +195,38 @@ SignatureScan::Queries SignatureScan::prepare(const float* queries, std::size_t 
         std::uint64_t* mask = out.mask_.data() + i * words_;
         // the largest magnitude of all values (a value of a binary channel
         // adds at most 1 to the pad's scale)
-        float max_abs = 0.0f;
-        for (std::size_t k = 0; k < dim(); ++k) max_abs = std::max(max_abs, std::fabs(query[k]));
+        float max_abs = largest_magnitude(query, dim());
         bool binary = true;
         std::fill(block.begin(), block.end(), 0.0);
+        // bit r * nb + j of the bits and the mask, gathered a 64-bit word at a time in registers
+        // (an or into memory a bit would chain every bit to the last through the store)
+        std::uint64_t word_bits = 0;
+        std::uint64_t word_mask = 0;
+        std::size_t bit = 0;
         for (std::size_t r = 0; r < width_; ++r) {
             const float* row = query + r * channels_;
-            for (std::size_t j = 0; j < nb; ++j) {
+            for (std::size_t j = 0; j < nb; ++j, ++bit) {
                 const float v = row[binary_[j]];
                 const bool one = v == 1.0f;
                 const bool valid = one || v == 0.0f;
                 binary = binary && valid;
-                const std::size_t bit = r * nb + j;
-                bits[bit / 64] |= std::uint64_t{one} << (bit % 64);
-                mask[bit / 64] |= std::uint64_t{valid} << (bit % 64);
+                word_bits |= std::uint64_t{one} << (bit % 64);
+                word_mask |= std::uint64_t{valid} << (bit % 64);
+                if (bit % 64 == 63) {
+                    bits[bit / 64] = word_bits;
+                    mask[bit / 64] = word_mask;
+                    word_bits = 0;
+                    word_mask = 0;
+                }
                 // at most width_ <= 255 ones when counts are used
                 counts[j] = static_cast<std::uint8_t>(counts[j] + one);
             }
             double* row_block = block.data() + r / kBlockRows * no;
             for (std::size_t o = 0; o < no; ++o) row_block[o] += static_cast<double>(row[other_[o]]);
+        }
+        if (bit % 64 != 0) {
+            bits[bit / 64] = word_bits;
+            mask[bit / 64] = word_mask;
         }
         float* sums = out.sums_.data() + i * out.sums_per_;
         for (std::size_t k = 0; k < block.size(); ++k) sums[k] = static_cast<float>(block[k]);

@@ -218,3 +218,67 @@ TEST_CASE("the block sums' bound allows for their rounding to float", "[kb][sign
         REQUIRE(near->squared_distance == d2);
     }
 }
+
+TEST_CASE("prepared queries hold their signatures as defined, across the bit words' edges",
+          "[kb][signature]") {
+    // channels 0, 2 and 5 of 6 are binary in the KB's segments, whose values all lie in [-1, 1]
+    const std::vector<std::size_t> binary{0, 2, 5};
+    const std::size_t channels = 6;
+    Rng rng(61);
+    for (std::size_t width = 1; width <= 50; ++width) {  // 3 to 150 bits: one to three words
+        const std::size_t dim = width * channels;
+        std::vector<float> segments(3 * dim);
+        for (std::size_t k = 0; k < segments.size(); ++k) {
+            const bool is_binary = k % channels == 0 || k % channels == 2 || k % channels == 5;
+            segments[k] =
+                is_binary ? static_cast<float>(rng.below(2)) : static_cast<float>(rng.uniform() * 2 - 1);
+        }
+        const kb::SignatureScan scan = scan_of(segments, width, channels, binary);
+        // three queries: 0/1 binary channels; one 0.5 in a binary channel; magnitudes above the KB's
+        std::vector<float> queries(3 * dim);
+        std::vector<float> largest(3, 0.0f);
+        for (std::size_t k = 0; k < queries.size(); ++k) {
+            const std::size_t q = k / dim;
+            const bool is_binary = k % channels == 0 || k % channels == 2 || k % channels == 5;
+            queries[k] = is_binary
+                             ? static_cast<float>(rng.below(2))
+                             : static_cast<float>((rng.uniform() * 2 - 1) * static_cast<double>(q + 2) * 10);
+            largest[q] = std::max(largest[q], std::fabs(queries[k]));
+        }
+        queries[dim + (width - 1) * channels + 2] = 0.5f;  // query 1, last row, channel 2
+        const auto prepared = scan.prepare(queries.data(), 3);
+        for (std::size_t q = 0; q < 3; ++q) {
+            const kb::SignatureScan::Query got = prepared[q];
+            INFO("width " << width << ", query " << q);
+            const float* query = queries.data() + q * dim;
+            CHECK(got.values == query);
+            std::vector<std::uint64_t> bits((width * binary.size() + 63) / 64, 0);
+            std::vector<std::uint64_t> mask(bits.size(), 0);
+            bool all_binary = true;
+            for (std::size_t j = 0; j < binary.size(); ++j) {
+                int ones = 0;
+                for (std::size_t r = 0; r < width; ++r) {
+                    const float v = query[r * channels + binary[j]];
+                    const std::size_t bit = r * binary.size() + j;
+                    if (v == 1.0f) bits[bit / 64] |= std::uint64_t{1} << (bit % 64);
+                    if (v == 1.0f || v == 0.0f) mask[bit / 64] |= std::uint64_t{1} << (bit % 64);
+                    all_binary = all_binary && (v == 1.0f || v == 0.0f);
+                    ones += v == 1.0f;
+                }
+                CHECK(static_cast<int>(got.counts[j]) == ones);
+            }
+            for (std::size_t w = 0; w < bits.size(); ++w) {
+                CHECK(got.bits[w] == bits[w]);
+                CHECK(got.mask[w] == mask[w]);
+            }
+            CHECK(got.counts_usable == all_binary);
+            CHECK(all_binary == (q != 1));
+            CHECK(got.sums_usable);
+        }
+        // the pad scales with the largest magnitude, each query's own above the KB's
+        CHECK(prepared[1].pad / prepared[0].pad ==
+              Approx(static_cast<double>(largest[1]) / largest[0]).epsilon(1e-12));
+        CHECK(prepared[2].pad / prepared[0].pad ==
+              Approx(static_cast<double>(largest[2]) / largest[0]).epsilon(1e-12));
+    }
+}
