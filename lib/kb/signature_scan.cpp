@@ -21,6 +21,7 @@ namespace {
 constexpr std::size_t kGroup = 32;
 // rows of a block of the other channels' bound
 constexpr std::size_t kBlockRows = 4;
+static_assert((kBlockRows & (kBlockRows - 1)) == 0, "check() multiplies by 1 / kBlockRows");
 // a block sum is rounded to float from a double sum of <= kBlockRows floats:
 // it lies within 2^-24 x 4 M (+ 2^-50 M) of the exact sum, M the largest
 // |value|; a difference of two, within 2^-20.9 M: the pad is 2^-19 M
@@ -259,7 +260,10 @@ SignatureScan::Queries SignatureScan::prepare(const float* queries, std::size_t 
                     0.0, std::fabs(static_cast<double>(q.sums[i]) - static_cast<double>(sums[i])) - q.pad);
                 block += gap * gap;
             }
-            cs += block / static_cast<double>(rows);
+            // a full block's quotient by kBlockRows, a power of two, is its product by the
+            // inverse, exactly (one rounding of the same real): a multiply, not a division, in
+            // the chain of sums
+            cs += rows == kBlockRows ? block * (1.0 / kBlockRows) : block / static_cast<double>(rows);
         }
         if (!s.admits((hamming + cs) * kBoundScale)) return false;
     }
