@@ -23,40 +23,12 @@ namespace stepstone::portable {
 namespace {
 
 using detail::inverse_factorial;
-using detail::kCosCoefficients;
-using detail::kHalfPi1;
-using detail::kHalfPi2;
-using detail::kHalfPi3;
-using detail::kSinCoefficients;
 using detail::kTwoOverPi;
 
 // ln 2 in two parts, the first of 33 bits
 constexpr double kLn2Hi = 0x1.62e42fef00000p-1;
 constexpr double kLn2Lo = 0x1.473de6af278edp-34;
 constexpr double kInvLn2 = 0x1.71547652b82fep+0;
-
-// c[0] + z c[1] + ... + z^7 c[7], by Horner from the highest term
-double horner(double z, const std::array<double, 8>& c) {
-    double p = c[7];
-    for (int k = 6; k >= 0; --k) p = c[k] + z * p;
-    return p;
-}
-
-// sin and cos of r, |r| <= pi/4 (plus rounding): Taylor series to r^17 and
-// r^18, whose first omitted terms are below 1e-19
-double sin_kernel(double r) {
-    const double z = r * r;
-    return r + r * (z * horner(z, kSinCoefficients));
-}
-
-double cos_kernel(double r) {
-    const double z = r * r;
-    // the series from z^2 on, with its signs flipped: cos r = 1 - (z/2 + z^2 p), the small terms
-    // summed first
-    const double p = horner(z, kCosCoefficients);
-    const double half = 0.5 * z;
-    return 1.0 - (half + z * (z * p));
-}
 
 // log(m) for m in [sqrt(1/2), sqrt(2)): 2 atanh(s), s = (m - 1) / (m + 1),
 // |s| <= 0.172, the series to s^25
@@ -114,9 +86,11 @@ constexpr double kTanEighthPi = 0x1.a827999fcef32p-2;
 
 void sincos(double x, double& s, double& c) {
     const double k = std::nearbyint(x * kTwoOverPi);
-    const double r = ((x - k * kHalfPi1) - k * kHalfPi2) - k * kHalfPi3;
-    const double sr = sin_kernel(r);
-    const double cr = cos_kernel(r);
+    double r;
+    double sr;
+    double cr;
+    detail::reduce(x, k, r);
+    detail::sincos_kernel(r, sr, cr);
     // x = k pi/2 + r: the quadrant k mod 4 rotates (cos r, sin r)
     switch (static_cast<long long>(k) & 3) {
         case 0:

@@ -3,8 +3,8 @@
 #include <array>
 #include <cstddef>
 
-// The constants of portable::sincos, shared by its scalar and lane builds
-// (core/portable_math.cpp, core/portable_math_lanes.cpp) so the two cannot drift apart.
+// The constants and the arithmetic of portable::sincos, shared by its scalar and lane builds
+// (core/portable_math.cpp, core/portable_math_lanes.cpp) so that they cannot drift apart.
 namespace stepstone::portable::detail {
 
 // pi/2 in three parts: the first two of 33 significant bits, so that k * part
@@ -32,5 +32,39 @@ constexpr std::array<double, 8> alternating_coefficients(int first) {
 }
 inline constexpr auto kSinCoefficients = alternating_coefficients(3);
 inline constexpr auto kCosCoefficients = alternating_coefficients(4);
+
+// The arithmetic below is written once for a double and for each lane of a vector of doubles
+// (GCC's vector extension, which the intrinsics' __m256d and __m512d are): every lane does the
+// scalar's IEEE operations in its order, and the project builds without contraction into FMA,
+// so every build gives the scalar's bits. Inline, and results through references, so that no
+// vector crosses a call by value (whose ABI differs with and without AVX).
+
+// p = c[0] + z c[1] + ... + z^7 c[7], by Horner from the highest term
+template <class T>
+[[gnu::always_inline]] inline void horner(const T& z, const std::array<double, 8>& c, T& p) {
+    p = T{} + c[7];  // c[7] in every lane (0 + c[7] is c[7]: it is not 0)
+    for (std::size_t k = 7; k-- > 0;) p = c[k] + z * p;
+}
+
+// r = x - k pi/2 with pi/2 in three parts, k the nearest integer to x 2/pi
+template <class T>
+[[gnu::always_inline]] inline void reduce(const T& x, const T& k, T& r) {
+    r = ((x - k * kHalfPi1) - k * kHalfPi2) - k * kHalfPi3;
+}
+
+// s = sin r and c = cos r, |r| <= pi/4 (plus rounding): Taylor series to r^17 and r^18, whose
+// first omitted terms are below 1e-19
+template <class T>
+[[gnu::always_inline]] inline void sincos_kernel(const T& r, T& s, T& c) {
+    const T z = r * r;
+    T p;
+    horner(z, kSinCoefficients, p);
+    s = r + r * (z * p);
+    // cos: the series from z^2 on, with its signs flipped: cos r = 1 - (z/2 + z^2 p), the small
+    // terms summed first
+    horner(z, kCosCoefficients, p);
+    const T half = 0.5 * z;
+    c = 1.0 - (half + z * (z * p));
+}
 
 }  // namespace stepstone::portable::detail

@@ -14,33 +14,17 @@ namespace stepstone::portable {
 namespace {
 
 #ifdef STEPSTONE_CORE_HAVE_AVX2_SINCOS
-// c[0] + z c[1] + ... + z^7 c[7] in four lanes, as portable_math.cpp's horner()
-[[gnu::target("avx2")]] inline __m256d horner4(__m256d z, const std::array<double, 8>& c) {
-    __m256d p = _mm256_set1_pd(c[7]);
-    for (int k = 6; k >= 0; --k)
-        p = _mm256_add_pd(_mm256_set1_pd(c[static_cast<std::size_t>(k)]), _mm256_mul_pd(z, p));
-    return p;
-}
-
 // portable::sincos of x[0..3], every lane the scalar function's operations in its order
 [[gnu::target("avx2")]] void sincos4(const double* x, double* s, double* c) {
     const __m256d vx = _mm256_loadu_pd(x);
     // nearbyint in the default rounding mode: to nearest, ties to even
     const __m256d k = _mm256_round_pd(_mm256_mul_pd(vx, _mm256_set1_pd(detail::kTwoOverPi)),
                                       _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC);
-    const __m256d r =
-        _mm256_sub_pd(_mm256_sub_pd(_mm256_sub_pd(vx, _mm256_mul_pd(k, _mm256_set1_pd(detail::kHalfPi1))),
-                                    _mm256_mul_pd(k, _mm256_set1_pd(detail::kHalfPi2))),
-                      _mm256_mul_pd(k, _mm256_set1_pd(detail::kHalfPi3)));
-    const __m256d z = _mm256_mul_pd(r, r);
-    // sin_kernel: r + r (z p)
-    const __m256d sr =
-        _mm256_add_pd(r, _mm256_mul_pd(r, _mm256_mul_pd(z, horner4(z, detail::kSinCoefficients))));
-    // cos_kernel: 1 - (z/2 + z (z p))
-    const __m256d pc = horner4(z, detail::kCosCoefficients);
-    const __m256d half = _mm256_mul_pd(_mm256_set1_pd(0.5), z);
-    const __m256d cr =
-        _mm256_sub_pd(_mm256_set1_pd(1.0), _mm256_add_pd(half, _mm256_mul_pd(z, _mm256_mul_pd(z, pc))));
+    __m256d r;
+    __m256d sr;
+    __m256d cr;
+    detail::reduce(vx, k, r);
+    detail::sincos_kernel(r, sr, cr);
     // the quadrant k mod 4 (|k| < 2^31: the 32-bit conversion is exact): odd quadrants swap sine
     // and cosine, quadrants 2 and 3 negate the sine, 1 and 2 the cosine
     const __m128i q = _mm256_cvtpd_epi32(k);
@@ -60,14 +44,6 @@ namespace {
     _mm256_storeu_pd(c, vc);
 }
 
-// horner4 in eight lanes
-[[gnu::target("avx512f,avx512dq")]] inline __m512d horner8(__m512d z, const std::array<double, 8>& c) {
-    __m512d p = _mm512_set1_pd(c[7]);
-    for (int k = 6; k >= 0; --k)
-        p = _mm512_add_pd(_mm512_set1_pd(c[static_cast<std::size_t>(k)]), _mm512_mul_pd(z, p));
-    return p;
-}
-
 // sincos4 of x[0..7] in one AVX-512 vector: the same operations, half the instructions, which
 // lets twice as many angles' long chains of multiplies and adds be in flight at once
 [[gnu::target("avx512f,avx512dq")]] void sincos8(const double* x, double* s, double* c) {
@@ -75,17 +51,11 @@ namespace {
     // (the zero-masked forms: GCC 12's unmasked ones trip -Wuninitialized)
     const __m512d k = _mm512_maskz_roundscale_pd(0xFF, _mm512_mul_pd(vx, _mm512_set1_pd(detail::kTwoOverPi)),
                                                  _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC);
-    const __m512d r =
-        _mm512_sub_pd(_mm512_sub_pd(_mm512_sub_pd(vx, _mm512_mul_pd(k, _mm512_set1_pd(detail::kHalfPi1))),
-                                    _mm512_mul_pd(k, _mm512_set1_pd(detail::kHalfPi2))),
-                      _mm512_mul_pd(k, _mm512_set1_pd(detail::kHalfPi3)));
-    const __m512d z = _mm512_mul_pd(r, r);
-    const __m512d sr =
-        _mm512_add_pd(r, _mm512_mul_pd(r, _mm512_mul_pd(z, horner8(z, detail::kSinCoefficients))));
-    const __m512d pc = horner8(z, detail::kCosCoefficients);
-    const __m512d half = _mm512_mul_pd(_mm512_set1_pd(0.5), z);
-    const __m512d cr =
-        _mm512_sub_pd(_mm512_set1_pd(1.0), _mm512_add_pd(half, _mm512_mul_pd(z, _mm512_mul_pd(z, pc))));
+    __m512d r;
+    __m512d sr;
+    __m512d cr;
+    detail::reduce(vx, k, r);
+    detail::sincos_kernel(r, sr, cr);
     // the quadrant as in sincos4 (k integral: the conversion is exact), with masks: bit 0 swaps, bit 1 of q
     // negates the sine, of q + 1 the cosine
     const __m512i q = _mm512_maskz_cvtpd_epi64(0xFF, k);
@@ -125,11 +95,8 @@ void sincos_lanes(const double* x, double* s, double* c, std::size_t count) {
     if (avx512_kernels_allowed()) {
         for (; i + 8 <= count; i += 8) sincos8(x + i, s + i, c + i);
     }
-    if (avx2_kernels_allowed()) {
-        for (; i + 4 <= count; i += 4) sincos4(x + i, s + i, c + i);
-    }
 #endif
-    sincos_lanes_generic(x + i, s + i, c + i, count - i);
+    sincos_lanes_avx2(x + i, s + i, c + i, count - i);  // the rest: four a vector, then one by one
 }
 
 }  // namespace stepstone::portable
