@@ -264,7 +264,7 @@ TEST_CASE("a rank killed mid-campaign: one line naming it and its run, then --re
     REQUIRE(victim > 0);
     INFO(result.err);
     CHECK(result.exit_code != 0);
-    const auto done_before = test::finished_runs(killed);
+    const auto done_before = test::finished_runs_after_exit(killed);
     CHECK(done_before < 11);
     // rank 0's line: the rank, its pid and the run it had
     CHECK_THAT(result.err,

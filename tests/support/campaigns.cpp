@@ -1,7 +1,9 @@
 #include "support/campaigns.hpp"
 
+#include <chrono>
 #include <memory>
 #include <stdexcept>
+#include <thread>
 
 #include "db/database.hpp"
 
@@ -68,6 +70,20 @@ std::int64_t finished_runs(const std::filesystem::path& dir) {
             .value_or(0);
     } catch (const std::exception&) {
         return 0;
+    }
+}
+
+std::int64_t finished_runs_after_exit(const std::filesystem::path& dir) {
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+    while (true) {
+        try {
+            auto connection = db::open_database(dir / "campaign.db", db::OpenMode::read_only);
+            return connection.query_int("SELECT count(*) FROM campaign_run WHERE status = 'finished'")
+                .value_or(0);
+        } catch (const std::exception&) {
+            if (std::chrono::steady_clock::now() >= deadline) throw;
+            std::this_thread::sleep_for(std::chrono::milliseconds(50));
+        }
     }
 }
 

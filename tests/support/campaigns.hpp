@@ -33,7 +33,14 @@ void copy_tiny_campaign(const std::filesystem::path& to, int target_generations)
 /// campaign_run.id -> digest of the runs that campaign.db of `dir` records finished.
 std::map<std::int64_t, std::string> finished_digests(const std::filesystem::path& dir);
 
-/// How many runs campaign.db of `dir` records finished (0 while it cannot be read).
+/// How many runs campaign.db of `dir` records finished (0 while it cannot be read):
+/// for polling a campaign that is still starting or running.
 std::int64_t finished_runs(const std::filesystem::path& dir);
+
+/// How many runs campaign.db of `dir` records finished, once the campaign's process
+/// has ended: an open that fails is tried again for up to 10 s (the first reader after
+/// a SIGKILL recovers the WAL the process left, and may meet a stray run's process),
+/// then the last error is thrown. Never 0 for a file it could not read.
+std::int64_t finished_runs_after_exit(const std::filesystem::path& dir);
 
 }  // namespace stepstone::test

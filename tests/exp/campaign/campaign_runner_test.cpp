@@ -26,7 +26,7 @@ TEST_CASE("a campaign killed mid-way and resumed gives the digests of an uninter
     test::run_cli_killed_when(
         {"campaign", (dir / "c.json").string(), "--dir", killed.string(), "--jobs", "1", "--quiet"},
         [&] { return test::finished_runs(killed) >= 4; });
-    const auto done_before = test::finished_runs(killed);
+    const auto done_before = test::finished_runs_after_exit(killed);
     CHECK(done_before >= 4);
     CHECK(done_before < 11);
     std::this_thread::sleep_for(std::chrono::milliseconds(300));  // the orphaned run gets its SIGTERM
@@ -60,7 +60,7 @@ TEST_CASE(
     INFO(result.err);
     CHECK(result.exit_code == 130);
     CHECK(seconds < 10);  // each run ends the generation it is in (~0.05 s here), not the run
-    const auto done_before = test::finished_runs(stopped);
+    const auto done_before = test::finished_runs_after_exit(stopped);
     CHECK(done_before < 11);
     REQUIRE_FALSE(result.err_lines().empty());
     CHECK_THAT(result.err_lines().back(),
