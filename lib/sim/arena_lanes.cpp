@@ -340,10 +340,13 @@ void Arena::ray_distances_lanes(const double* x, const double* y, const double* 
                                 std::size_t count, double* const (&out)[3]) const {
     STEPSTONE_ASSERT(count <= 32);
     const Walls walls = walls_of(closed_, open_, static_cast<std::size_t>(door_index_));
+    // the walls and the door only: an empty slot's box, far beyond any range, never gives a
+    // distance (ray_distance() visits it and keeps none)
+    const auto slots = static_cast<std::size_t>(wall_count_);
 #ifdef STEPSTONE_SIM_HAVE_AVX2_LANES
-    if (avx2_kernels()) return rays_avx2(walls, kSlots, x, y, dx, dy, range, door_open, count, out);
+    if (avx2_kernels()) return rays_avx2(walls, slots, x, y, dx, dy, range, door_open, count, out);
 #endif
-    rays_kernel<4>(walls, kSlots, x, y, dx, dy, range, door_open, count, out);
+    rays_kernel<4>(walls, slots, x, y, dx, dy, range, door_open, count, out);
 }
 
 void Arena::build_near_grid() {
