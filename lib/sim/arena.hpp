@@ -102,7 +102,8 @@ private:
         std::uint32_t near;
     };
     Near near_slots(double x, double y, bool door_open) const;
-    // contact()'s bumper bits (kLeft, kRight) once the disc overlaps a wall; `near` as near_slots() gives it
+    // contact()'s bumper bits (bit 0 left, bit 1 right) once the disc overlaps a wall; `near` as
+    // near_slots() gives it (arena_bumpers.cpp)
     template <bool kByAngles>
     [[gnu::noinline]] unsigned bumpers(const Pose& pose, bool door_open, std::uint32_t near) const;
 
