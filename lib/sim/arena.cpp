@@ -366,13 +366,19 @@ Contact Arena::contact(const Pose& pose, bool door_open) const {
 }
 
 Contact Arena::contact_of_overlap(const Pose& pose, bool door_open, std::uint32_t near) const {
-    return overlap_contact(bumpers<false>(pose, door_open, near));
+    return overlap_contact(bumpers<BumperMethod::segments>(pose, door_open, near));
 }
 
 Contact Arena::contact_by_angles(const Pose& pose, bool door_open) const {
     const Near near = near_slots(pose.x, pose.y, door_open);
     if (near.overlap == 0) return Contact{};
-    return overlap_contact(bumpers<true>(pose, door_open, near.near));
+    return overlap_contact(bumpers<BumperMethod::angles>(pose, door_open, near.near));
+}
+
+Contact Arena::contact_by_quarters(const Pose& pose, bool door_open) const {
+    const Near near = near_slots(pose.x, pose.y, door_open);
+    if (near.overlap == 0) return Contact{};
+    return overlap_contact(bumpers<BumperMethod::quarters>(pose, door_open, near.near));
 }
 
 }  // namespace stepstone::sim

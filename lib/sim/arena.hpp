@@ -83,9 +83,11 @@ public:
     /// same answer without testing the overlap again.
     Contact contact_of_overlap(const Pose& pose, bool door_open, std::uint32_t near) const;
     /// contact() with every bearing from atan2, as first written; contact()
-    /// decides most bumpers from signs of products instead, with the same
-    /// answer (tests compare the two).
+    /// decides most bumpers from the closest point and one segment test, the
+    /// rest from signs of products, with the same answer (tests compare them).
     Contact contact_by_angles(const Pose& pose, bool door_open) const;
+    /// contact() without its segment tests: the signs of products, then atan2.
+    Contact contact_by_quarters(const Pose& pose, bool door_open) const;
 
 private:
     // squared distance added to the radius's square for the walls the bumpers examine in
@@ -104,7 +106,8 @@ private:
     Near near_slots(double x, double y, bool door_open) const;
     // contact()'s bumper bits (bit 0 left, bit 1 right) once the disc overlaps a wall; `near` as
     // near_slots() gives it (arena_bumpers.cpp)
-    template <bool kByAngles>
+    enum class BumperMethod { segments, quarters, angles };
+    template <BumperMethod kMethod>
     [[gnu::noinline]] unsigned bumpers(const Pose& pose, bool door_open, std::uint32_t near) const;
 
     // the slots (bit k) whose box lies within the robot's radius and a slack of a cell of a

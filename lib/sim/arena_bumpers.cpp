@@ -1,9 +1,9 @@
-#include "sim/arena.hpp"
-
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstdint>
 
+#include "sim/arena.hpp"
 #include "sim/cos_sin.hpp"
 #include "sim/robot.hpp"
 #include "sim/units.hpp"
@@ -129,9 +129,77 @@ unsigned bumpers_by_quarters(const WallBox& box, const Pose& pose, double c, dou
     return (left ? kLeft : 0u) | (right ? kRight : 0u) | (sure ? kSure : 0u);
 }
 
+// bumpers_by_quarters' answer from the closest point and one segment's test against the box,
+// with kSure set when it is sure of it (the common case: no vertex is computed). Let R be the
+// overlap region and P the closest point, clearly in a quarter (u, v as bumpers_by_quarters
+// takes them). R is convex and its bearings lie within pi/2 of P's, so P's quarter settles one
+// bumper: in (0, pi/2) the left one is pressed, in (pi/2, pi) the right one is not, and so on.
+// The other bumper asks whether R reaches the next quarter (the one asked), across the radius g
+// between the two; h is the unit normal of g towards the quarter asked, and P lies beyond h = -e:
+//   - if the segment {h = -e, g in [0, r]} misses the box, R stays on P's side by e: it would
+//     otherwise hold a point of that segment (on the chord from P to any point beyond);
+//   - if the segment {h = +e, g in [e, r - e]} (inside the disc) meets the box, R holds a point
+//     of it, in the quarter asked by e.
+// e = 1e-6 is far above the 1e-9 relative margin bumpers_by_quarters keeps from a quarter's edge
+// (e / r = 5e-8), and each segment test is taken only when it is clear by kSlack (1e-9 units,
+// far above the rounding of coordinates below 1e4), so the answer is the one atan2 gives.
+// Segment against box: separated along x, along y or along h (the separating axes of a segment
+// and a box), by the largest gap; both overlap when every gap is negative.
+unsigned bumpers_by_segments(const WallBox& box, const Pose& pose, double c, double s, double px, double py) {
+    constexpr double kMargin = 1e-9;
+    constexpr double kOffset = 1e-6;
+    constexpr double kSlack = 1e-9;
+    const double dx = px - pose.x;
+    const double dy = py - pose.y;
+    const double u = dx * c + dy * s;
+    const double v = dy * c - dx * s;
+    const double margin = kMargin * (std::fabs(u) + std::fabs(v));
+    if (!(std::fabs(u) > margin && std::fabs(v) > margin)) return 0;
+    // forward f = (c, s), left n = (-s, c)
+    unsigned known = 0;  // the bumper P's quarter presses, if any
+    unsigned asked = 0;
+    double gx, gy, hx, hy;
+    if (u > 0.0) {  // (0, pi/2) or (-pi/2, 0): the forward radius, towards the other side
+        gx = c;
+        gy = s;
+        known = v > 0.0 ? kLeft : kRight;
+        asked = v > 0.0 ? kRight : kLeft;
+        hx = v > 0.0 ? s : -s;
+        hy = v > 0.0 ? -c : c;
+    } else {  // (pi/2, pi) or (-pi, -pi/2): the left or right radius, towards the front
+        gx = v > 0.0 ? -s : s;
+        gy = v > 0.0 ? c : -c;
+        asked = v > 0.0 ? kLeft : kRight;
+        hx = c;
+        hy = s;
+    }
+    if (!(hx * dx + hy * dy < -(kOffset + kSlack))) return 0;
+    // the box's extent along h, from the centre
+    const double x0 = box.x0 - pose.x;
+    const double x1 = box.x1 - pose.x;
+    const double y0 = box.y0 - pose.y;
+    const double y1 = box.y1 - pose.y;
+    const double h_lo = std::min(hx * x0, hx * x1) + std::min(hy * y0, hy * y1);
+    const double h_hi = std::max(hx * x0, hx * x1) + std::max(hy * y0, hy * y1);
+    // the largest gap between the box and the segment {h = a, g in [t0, t1]}
+    const auto gap = [&](double a, double t0, double t1) {
+        const double ax = a * hx + t0 * gx;
+        const double ay = a * hy + t0 * gy;
+        const double bx = a * hx + t1 * gx;
+        const double by = a * hy + t1 * gy;
+        const double gap_x = std::max(x0 - std::max(ax, bx), std::min(ax, bx) - x1);
+        const double gap_y = std::max(y0 - std::max(ay, by), std::min(ay, by) - y1);
+        const double gap_h = std::max(h_lo - a, a - h_hi);
+        return std::max(std::max(gap_x, gap_y), gap_h);
+    };
+    if (gap(-kOffset, 0.0, kRobotRadius) > kSlack) return known | kSure;
+    if (gap(kOffset, kOffset, kRobotRadius - kOffset) < -kSlack) return known | asked | kSure;
+    return 0;
+}
+
 }  // namespace
 
-template <bool kByAngles>
+template <Arena::BumperMethod kMethod>
 unsigned Arena::bumpers(const Pose& pose, bool door_open, std::uint32_t near) const {
     unsigned sides = 0;
     const double r2 = kRobotRadius * kRobotRadius;
@@ -157,10 +225,13 @@ unsigned Arena::bumpers(const Pose& pose, bool door_open, std::uint32_t near) co
         // (a centre within 1e-10 of the wall is left to atan2: the offsets
         // stay far from underflow)
         unsigned wall_sides = 0;
-        if constexpr (!kByAngles) {
+        if constexpr (kMethod != BumperMethod::angles) {
             if (d2 > 1e-20) {
                 const CosSin heading = cos_sin(pose.heading);
-                wall_sides = bumpers_by_quarters(box, pose, heading.c, heading.s, px, py);
+                if constexpr (kMethod == BumperMethod::segments)
+                    wall_sides = bumpers_by_segments(box, pose, heading.c, heading.s, px, py);
+                if ((wall_sides & kSure) == 0)
+                    wall_sides = bumpers_by_quarters(box, pose, heading.c, heading.s, px, py);
             }
         }
         if ((wall_sides & kSure) == 0) wall_sides = bumpers_by_angles(box, pose, px, py);
@@ -169,7 +240,8 @@ unsigned Arena::bumpers(const Pose& pose, bool door_open, std::uint32_t near) co
     return sides;
 }
 
-template unsigned Arena::bumpers<false>(const Pose&, bool, std::uint32_t) const;
-template unsigned Arena::bumpers<true>(const Pose&, bool, std::uint32_t) const;
+template unsigned Arena::bumpers<Arena::BumperMethod::segments>(const Pose&, bool, std::uint32_t) const;
+template unsigned Arena::bumpers<Arena::BumperMethod::quarters>(const Pose&, bool, std::uint32_t) const;
+template unsigned Arena::bumpers<Arena::BumperMethod::angles>(const Pose&, bool, std::uint32_t) const;
 
 }  // namespace stepstone::sim

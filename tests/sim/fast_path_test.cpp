@@ -226,7 +226,8 @@ TEST_CASE("contact far off the map falls back to every wall and agrees with the 
     CHECK_FALSE(far.right);
 }
 
-TEST_CASE("bumpers from the quarters' signs equal those from atan2 bearings", "[sim][arena][fast]") {
+TEST_CASE("bumpers from segment tests and from the quarters' signs equal those from atan2 bearings",
+          "[sim][arena][fast]") {
     const Arena arena;
     const auto walls = arena.walls();
     stepstone::Rng rng(13);
@@ -262,9 +263,13 @@ TEST_CASE("bumpers from the quarters' signs equal those from atan2 bearings", "[
         const bool door_open = rng.bernoulli(0.5);
         const Contact fast = arena.contact(pose, door_open);
         const Contact exact = arena.contact_by_angles(pose, door_open);
+        const Contact quarters = arena.contact_by_quarters(pose, door_open);
+        INFO("pose (" << pose.x << ", " << pose.y << ", " << pose.heading << "), door open " << door_open);
         REQUIRE(fast.hit == exact.hit);
         REQUIRE(fast.left == exact.left);
         REQUIRE(fast.right == exact.right);
+        REQUIRE(quarters.left == exact.left);
+        REQUIRE(quarters.right == exact.right);
         contacts += fast.hit ? 1 : 0;
         left += fast.left ? 1 : 0;
         right += fast.right ? 1 : 0;
@@ -272,6 +277,45 @@ TEST_CASE("bumpers from the quarters' signs equal those from atan2 bearings", "[
     CHECK(contacts > 100'000);
     CHECK(left > 30'000);
     CHECK(right > 30'000);
+}
+
+TEST_CASE("bumpers of a disc that barely overlaps a wall's corner seen almost along a quarter's edge",
+          "[sim][arena][fast]") {
+    // the overlap region is a sliver around the corner, the closest point; the heading puts the
+    // corner within a hair of the forward, left or right radius: the segment tests' margins
+    const Arena arena;
+    int hits = 0;
+    int sides_differ = 0;  // contacts whose two bumpers differ: the margins decided something
+    for (const WallBox& wall : arena.walls()) {
+        for (const double cx : {wall.x0, wall.x1}) {
+            for (const double cy : {wall.y0, wall.y1}) {
+                const double ox = cx == wall.x0 ? -1.0 : 1.0;  // away from the box, diagonally
+                const double oy = cy == wall.y0 ? -1.0 : 1.0;
+                for (const double depth : {1e-13, 1e-11, 1e-9, 1e-7, 1e-5, 1e-3, 0.1}) {
+                    const double reach = (kRobotRadius - depth) / std::sqrt(2.0);
+                    Pose pose{cx + ox * reach, cy + oy * reach, 0.0};
+                    const double towards = std::atan2(cy - pose.y, cx - pose.x);
+                    for (int quarter = -1; quarter <= 1; ++quarter) {
+                        for (const double tilt : {-1e-5, -1e-6, -3e-7, -1e-7, -1e-8, -1e-10, 0.0, 1e-10, 1e-8,
+                                                  1e-7, 3e-7, 1e-6, 1e-5}) {
+                            pose.heading = normalize_angle(towards + quarter * kPi / 2 + tilt);
+                            const Contact fast = arena.contact(pose, false);
+                            const Contact exact = arena.contact_by_angles(pose, false);
+                            INFO("corner (" << cx << ", " << cy << "), depth " << depth << ", quarter "
+                                            << quarter << ", tilt " << tilt);
+                            REQUIRE(fast.hit == exact.hit);
+                            REQUIRE(fast.left == exact.left);
+                            REQUIRE(fast.right == exact.right);
+                            hits += exact.hit ? 1 : 0;
+                            sides_differ += exact.left != exact.right ? 1 : 0;
+                        }
+                    }
+                }
+            }
+        }
+    }
+    CHECK(hits > 1'000);
+    CHECK(sides_differ > 100);
 }
 
 TEST_CASE("disc overlaps of many centres at once equal one at a time, each lane with its own door",
