@@ -120,7 +120,8 @@ unsigned bumpers_by_quarters(const WallBox& box, const Pose& pose, double c, dou
     // true when the arc from a's bearing counter-clockwise to b's is shorter than pi
     auto counter_clockwise = [&](const Offset& a, const Offset& b) {
         const double cross = a.dx * b.dy - a.dy * b.dx;
-        const double margin = kMargin * (std::fabs(a.dx) + std::fabs(a.dy)) * (std::fabs(b.dx) + std::fabs(b.dy));
+        const double margin =
+            kMargin * (std::fabs(a.dx) + std::fabs(a.dy)) * (std::fabs(b.dx) + std::fabs(b.dy));
         sure = sure && std::fabs(cross) > margin;
         return cross > 0.0;
     };
