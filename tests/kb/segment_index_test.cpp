@@ -295,6 +295,23 @@ TEST_CASE("the distance follows the documented lane order", "[kb][distance]") {
     // by hand: (0,0,0) to (1,2,2) is 9
     const float a[3] = {0, 0, 0}, b[3] = {1, 2, 2};
     CHECK(kb::squared_distance(a, b, 3) == 9.0);
+    // lanes whose sums differ so much that another lane for a value, or another pairing of the
+    // lanes, rounds differently: 2^53 in one lane (two squares of 2^26), 1 in the next two
+    for (std::size_t dim : {16u, 21u, 300u}) {
+        for (std::size_t big = 0; big < kb::kDistanceLanes; ++big) {
+            std::vector<float> x(dim, 0.0f);
+            const std::vector<float> zero(dim, 0.0f);
+            x[big] = x[big + 8] = 67108864.0f;  // 2^26
+            for (std::size_t k = 0; k < dim; ++k) {
+                if (k % kb::kDistanceLanes == (big + 1) % kb::kDistanceLanes && k < 8) x[k] = 1.0f;
+                if (k % kb::kDistanceLanes == (big + 2) % kb::kDistanceLanes && k >= 16) x[k] = 1.0f;
+            }
+            CAPTURE(dim, big);
+            const double expect = kboracle::oracle_squared_distance(x.data(), zero.data(), dim);
+            CHECK(kb::squared_distance(x.data(), zero.data(), dim) == expect);
+            CHECK(kb::squared_distance_up_to(x.data(), zero.data(), dim, expect) == expect);
+        }
+    }
 }
 
 TEST_CASE("the index equals a linear scan after many inserts and rebuilds", "[kb][index]") {
