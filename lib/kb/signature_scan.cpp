@@ -49,6 +49,35 @@ int at_most(double x) {
     return static_cast<int>(std::floor(x));
 }
 
+// stage 3's squared gaps, max(0, |q[i] - s[i]| - pad)^2 of the n block sums, into out[i]
+void gap_squares_generic(const float* q, const float* s, double pad, std::size_t n, double* out) {
+    for (std::size_t i = 0; i < n; ++i) {
+        const double gap = std::max(0.0, std::fabs(static_cast<double>(q[i]) - static_cast<double>(s[i])) - pad);
+        out[i] = gap * gap;
+    }
+}
+
+#if defined(__x86_64__)
+// gap_squares_generic four at a time: the same operations (max_pd(x, 0) is x > 0 ? x : 0, as
+// std::max(0.0, x); the absolute value clears the sign bit)
+[[gnu::target("avx2")]] void gap_squares_avx2(const float* q, const float* s, double pad, std::size_t n,
+                                              double* out) {
+    const __m256d sign = _mm256_set1_pd(-0.0);
+    const __m256d pads = _mm256_set1_pd(pad);
+    const __m256d zero = _mm256_setzero_pd();
+    std::size_t i = 0;
+    for (; i + 4 <= n; i += 4) {
+        const __m256d d = _mm256_sub_pd(_mm256_cvtps_pd(_mm_loadu_ps(q + i)), _mm256_cvtps_pd(_mm_loadu_ps(s + i)));
+        const __m256d gap = _mm256_max_pd(_mm256_sub_pd(_mm256_andnot_pd(sign, d), pads), zero);
+        _mm256_storeu_pd(out + i, _mm256_mul_pd(gap, gap));
+    }
+    gap_squares_generic(q + i, s + i, pad, n - i, out + i);
+}
+#endif
+
+// block sums whose squared gaps check() takes from the stack; more take the plain loop
+constexpr std::size_t kMaxBlockSums = 512;
+
 }  // namespace
 
 // one scan's state: the query, the limits and the best segment so far
@@ -241,6 +270,7 @@ SignatureScan::Queries SignatureScan::prepare(const float* queries, std::size_t 
 
 // stages 2 to 4 for segment k (stage 1 passed or skipped); true when it
 // became the best so far
+template <bool kAvx2>
 [[gnu::always_inline]] inline bool SignatureScan::check(Scan& s, std::size_t k) const {
     const Query& q = s.q;
     const std::uint64_t* bits = bits_.data() + k * words_;
@@ -250,15 +280,35 @@ SignatureScan::Queries SignatureScan::prepare(const float* queries, std::size_t 
     const double hamming = static_cast<double>(h);
     if (!s.admits(hamming)) return false;
     if (q.sums_usable) {
-        const float* sums = sums_.data() + k * blocks_ * other_.size();
+        const std::size_t no = other_.size();
+        const std::size_t count = blocks_ * no;
+        const float* sums = sums_.data() + k * count;
+        // the squared gaps first, in vectors where they can be; then each block's sum in order
+        double squares[kMaxBlockSums];
+        const bool stacked = count <= kMaxBlockSums;
+        if (stacked) {
+#if defined(__x86_64__)
+            if constexpr (kAvx2) {
+                gap_squares_avx2(q.sums, sums, q.pad, count, squares);
+            } else {
+                gap_squares_generic(q.sums, sums, q.pad, count, squares);
+            }
+#else
+            gap_squares_generic(q.sums, sums, q.pad, count, squares);
+#endif
+        }
         double cs = 0.0;
         for (std::size_t b = 0, i = 0; b < blocks_; ++b) {
             const std::size_t rows = std::min(width_, (b + 1) * kBlockRows) - b * kBlockRows;
             double block = 0.0;
-            for (std::size_t o = 0; o < other_.size(); ++o, ++i) {
-                const double gap = std::max(
-                    0.0, std::fabs(static_cast<double>(q.sums[i]) - static_cast<double>(sums[i])) - q.pad);
-                block += gap * gap;
+            for (std::size_t o = 0; o < no; ++o, ++i) {
+                if (stacked) {
+                    block += squares[i];
+                    continue;
+                }
+                double square = 0.0;
+                gap_squares_generic(q.sums + i, sums + i, q.pad, 1, &square);
+                block += square;
             }
             // a full block's quotient by kBlockRows, a power of two, is its product by the
             // inverse, exactly (one rounding of the same real): a multiply, not a division, in
@@ -295,7 +345,7 @@ void SignatureScan::scan_generic(Scan& s) const {
             gaps[lane] = static_cast<std::uint8_t>(gap);
         }
         for (std::size_t lane = 0; lane < lanes; ++lane)
-            if (gaps[lane] <= s.max_count_gap) check(s, base + lane);
+            if (gaps[lane] <= s.max_count_gap) check<false>(s, base + lane);
     }
 }
 
@@ -324,7 +374,7 @@ void SignatureScan::scan_generic(Scan& s) const {
             const auto lane = static_cast<std::size_t>(std::countr_zero(bits));
             bits &= bits - 1;
             // the limit may have shrunk since the comparison
-            if (gaps[lane] <= s.max_count_gap) check(s, base + lane);
+            if (gaps[lane] <= s.max_count_gap) check<true>(s, base + lane);
         }
     }
 }
@@ -342,7 +392,11 @@ std::optional<Neighbour> SignatureScan::nearest(const Query& query, const float*
         else
             scan_generic(s);
     } else {
-        for (std::size_t k = 0; k < size_; ++k) check(s, k);
+        if (detail::use_avx2()) {
+            for (std::size_t k = 0; k < size_; ++k) check<true>(s, k);
+        } else {
+            for (std::size_t k = 0; k < size_; ++k) check<false>(s, k);
+        }
     }
     if (!s.found) return std::nullopt;
     return Neighbour{s.best, s.best_d2};

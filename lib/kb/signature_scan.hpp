@@ -95,6 +95,7 @@ private:
     struct Scan;
     void scan_generic(Scan& scan) const;
     void scan_avx2(Scan& scan) const;
+    template <bool kAvx2>
     bool check(Scan& scan, std::size_t k) const;
 
     std::size_t width_;
