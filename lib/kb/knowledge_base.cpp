@@ -6,6 +6,8 @@
 #include <string_view>
 #include <unordered_map>
 
+#include <xxhash.h>
+
 #include "core/assert.hpp"
 #include "core/error.hpp"
 #include "core/text.hpp"
@@ -311,7 +313,11 @@ std::vector<float> KnowledgeBase::distinct_of(Segments segments, std::vector<std
     slot.resize(segments.size());
     std::vector<float> distinct;
     distinct.reserve(segments.values.size());
-    std::unordered_map<std::string_view, std::size_t> seen;
+    // (XXH3 of a segment's bytes: std::hash of a string_view took ~6 % of a lookup)
+    struct BytesHash {
+        std::size_t operator()(std::string_view bytes) const { return XXH3_64bits(bytes.data(), bytes.size()); }
+    };
+    std::unordered_map<std::string_view, std::size_t, BytesHash> seen;
     seen.reserve(segments.size());
     for (std::size_t i = 0; i < segments.size(); ++i) {
         const auto* bytes = reinterpret_cast<const char*>(segments.values.data() + i * dim);
