@@ -40,18 +40,19 @@ struct Lanes {
 
 #ifdef STEPSTONE_KB_HAVE_AVX2_DISTANCE
 // the squares of x - y (8 floats each, as doubles) added to lanes 0-3 (low) and 4-7 (high)
-[[gnu::target("avx2"), gnu::always_inline]] inline void add_squares(const __m256& x, const __m256& y, __m256d& low,
-                                                                   __m256d& high) {
+[[gnu::target("avx2"), gnu::always_inline]] inline void add_squares(const __m256& x, const __m256& y,
+                                                                    __m256d& low, __m256d& high) {
     const __m256d d_low =
         _mm256_sub_pd(_mm256_cvtps_pd(_mm256_castps256_ps128(x)), _mm256_cvtps_pd(_mm256_castps256_ps128(y)));
-    const __m256d d_high =
-        _mm256_sub_pd(_mm256_cvtps_pd(_mm256_extractf128_ps(x, 1)), _mm256_cvtps_pd(_mm256_extractf128_ps(y, 1)));
+    const __m256d d_high = _mm256_sub_pd(_mm256_cvtps_pd(_mm256_extractf128_ps(x, 1)),
+                                         _mm256_cvtps_pd(_mm256_extractf128_ps(y, 1)));
     low = _mm256_add_pd(low, _mm256_mul_pd(d_low, d_low));
     high = _mm256_add_pd(high, _mm256_mul_pd(d_high, d_high));
 }
 
 // Lanes::total() of the two vectors: (l0 + l1) + (l2 + l3) beside (l4 + l5) + (l6 + l7), then their sum
-[[gnu::target("avx2"), gnu::always_inline]] inline double lanes_total(const __m256d& low, const __m256d& high) {
+[[gnu::target("avx2"), gnu::always_inline]] inline double lanes_total(const __m256d& low,
+                                                                      const __m256d& high) {
     const __m256d pairs = _mm256_hadd_pd(low, high);  // l0+l1, l4+l5, l2+l3, l6+l7
     const __m128d halves = _mm_add_pd(_mm256_castpd256_pd128(pairs), _mm256_extractf128_pd(pairs, 1));
     return _mm_cvtsd_f64(_mm_add_sd(halves, _mm_unpackhi_pd(halves, halves)));
@@ -96,7 +97,8 @@ double squared_distance_generic(const float* a, const float* b, std::size_t dim)
 
 double squared_distance(const float* a, const float* b, std::size_t dim) {
 #ifdef STEPSTONE_KB_HAVE_AVX2_DISTANCE
-    if (detail::use_avx2()) return squared_distance_up_to_avx2(a, b, dim, std::numeric_limits<double>::infinity());
+    if (detail::use_avx2())
+        return squared_distance_up_to_avx2(a, b, dim, std::numeric_limits<double>::infinity());
 #endif
     return squared_distance_generic(a, b, dim);
 }

@@ -1,12 +1,12 @@
 #include "kb/knowledge_base.hpp"
 
+#include <xxhash.h>
+
 #include <algorithm>
 #include <cmath>
 #include <mutex>
 #include <string_view>
 #include <unordered_map>
-
-#include <xxhash.h>
 
 #include "core/assert.hpp"
 #include "core/error.hpp"
@@ -315,7 +315,9 @@ std::vector<float> KnowledgeBase::distinct_of(Segments segments, std::vector<std
     distinct.reserve(segments.values.size());
     // (XXH3 of a segment's bytes: std::hash of a string_view took ~6 % of a lookup)
     struct BytesHash {
-        std::size_t operator()(std::string_view bytes) const { return XXH3_64bits(bytes.data(), bytes.size()); }
+        std::size_t operator()(std::string_view bytes) const {
+            return XXH3_64bits(bytes.data(), bytes.size());
+        }
     };
     std::unordered_map<std::string_view, std::size_t, BytesHash> seen;
     seen.reserve(segments.size());

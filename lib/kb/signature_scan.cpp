@@ -52,7 +52,8 @@ int at_most(double x) {
 // stage 3's squared gaps, max(0, |q[i] - s[i]| - pad)^2 of the n block sums, into out[i]
 void gap_squares_generic(const float* q, const float* s, double pad, std::size_t n, double* out) {
     for (std::size_t i = 0; i < n; ++i) {
-        const double gap = std::max(0.0, std::fabs(static_cast<double>(q[i]) - static_cast<double>(s[i])) - pad);
+        const double gap =
+            std::max(0.0, std::fabs(static_cast<double>(q[i]) - static_cast<double>(s[i])) - pad);
         out[i] = gap * gap;
     }
 }
@@ -67,7 +68,8 @@ void gap_squares_generic(const float* q, const float* s, double pad, std::size_t
     const __m256d zero = _mm256_setzero_pd();
     std::size_t i = 0;
     for (; i + 4 <= n; i += 4) {
-        const __m256d d = _mm256_sub_pd(_mm256_cvtps_pd(_mm_loadu_ps(q + i)), _mm256_cvtps_pd(_mm_loadu_ps(s + i)));
+        const __m256d d =
+            _mm256_sub_pd(_mm256_cvtps_pd(_mm_loadu_ps(q + i)), _mm256_cvtps_pd(_mm_loadu_ps(s + i)));
         const __m256d gap = _mm256_max_pd(_mm256_sub_pd(_mm256_andnot_pd(sign, d), pads), zero);
         _mm256_storeu_pd(out + i, _mm256_mul_pd(gap, gap));
     }
