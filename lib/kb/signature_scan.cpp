@@ -75,6 +75,10 @@ void gap_squares_generic(const float* q, const float* s, double pad, std::size_t
     }
     gap_squares_generic(q + i, s + i, pad, n - i, out + i);
 }
+#else
+void gap_squares_avx2(const float* q, const float* s, double pad, std::size_t n, double* out) {
+    gap_squares_generic(q, s, pad, n, out);
+}
 #endif
 
 // block sums whose squared gaps check() takes from the stack; more take the plain loop
@@ -289,15 +293,11 @@ template <bool kAvx2>
         double squares[kMaxBlockSums];
         const bool stacked = count <= kMaxBlockSums;
         if (stacked) {
-#if defined(__x86_64__)
             if constexpr (kAvx2) {
                 gap_squares_avx2(q.sums, sums, q.pad, count, squares);
             } else {
                 gap_squares_generic(q.sums, sums, q.pad, count, squares);
             }
-#else
-            gap_squares_generic(q.sums, sums, q.pad, count, squares);
-#endif
         }
         double cs = 0.0;
         for (std::size_t b = 0, i = 0; b < blocks_; ++b) {

@@ -71,6 +71,8 @@ bool meets(double lo, double hi, double a, double b) {
 constexpr unsigned kLeft = 1;
 constexpr unsigned kRight = 2;
 constexpr unsigned kSure = 4;
+// the relative margin by which the sign tests below must be clear of a quarter's edge to be sure
+constexpr double kQuarterMargin = 1e-9;
 
 // the bumpers of one wall the disc overlaps without containing the centre
 // ((px, py) is the wall's point closest to it): the bearing range of the
@@ -99,7 +101,6 @@ unsigned bumpers_by_angles(const WallBox& box, const Pose& pose, double px, doub
 // arithmetic and atan2's, so the answer is the one atan2's bearings give;
 // a vertex within the margin of a quarter's edge leaves it to atan2.
 unsigned bumpers_by_quarters(const WallBox& box, const Pose& pose, double c, double s, double px, double py) {
-    constexpr double kMargin = 1e-9;
     struct Offset {
         double dx, dy;
     };
@@ -109,7 +110,7 @@ unsigned bumpers_by_quarters(const WallBox& box, const Pose& pose, double c, dou
     auto classify = [&](double dx, double dy) {
         const double u = dx * c + dy * s;
         const double v = dy * c - dx * s;
-        const double margin = kMargin * (std::fabs(u) + std::fabs(v));
+        const double margin = kQuarterMargin * (std::fabs(u) + std::fabs(v));
         sure = sure && std::fabs(u) > margin && std::fabs(v) > margin;
         const unsigned quarter = u > 0.0 ? (v > 0.0 ? 0u : 3u) : (v > 0.0 ? 1u : 2u);
         seen |= 1u << quarter;
@@ -121,7 +122,7 @@ unsigned bumpers_by_quarters(const WallBox& box, const Pose& pose, double c, dou
     auto counter_clockwise = [&](const Offset& a, const Offset& b) {
         const double cross = a.dx * b.dy - a.dy * b.dx;
         const double margin =
-            kMargin * (std::fabs(a.dx) + std::fabs(a.dy)) * (std::fabs(b.dx) + std::fabs(b.dy));
+            kQuarterMargin * (std::fabs(a.dx) + std::fabs(a.dy)) * (std::fabs(b.dx) + std::fabs(b.dy));
         sure = sure && std::fabs(cross) > margin;
         return cross > 0.0;
     };
@@ -147,14 +148,13 @@ unsigned bumpers_by_quarters(const WallBox& box, const Pose& pose, double c, dou
 // Segment against box: separated along x, along y or along h (the separating axes of a segment
 // and a box), by the largest gap; both overlap when every gap is negative.
 unsigned bumpers_by_segments(const WallBox& box, const Pose& pose, double c, double s, double px, double py) {
-    constexpr double kMargin = 1e-9;
     constexpr double kOffset = 1e-6;
     constexpr double kSlack = 1e-9;
     const double dx = px - pose.x;
     const double dy = py - pose.y;
     const double u = dx * c + dy * s;
     const double v = dy * c - dx * s;
-    const double margin = kMargin * (std::fabs(u) + std::fabs(v));
+    const double margin = kQuarterMargin * (std::fabs(u) + std::fabs(v));
     if (!(std::fabs(u) > margin && std::fabs(v) > margin)) return 0;
     // forward f = (c, s), left n = (-s, c)
     unsigned known = 0;  // the bumper P's quarter presses, if any
