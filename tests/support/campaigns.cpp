@@ -63,11 +63,19 @@ std::map<std::int64_t, std::string> finished_digests(const std::filesystem::path
     return out;
 }
 
+namespace {
+
+// the count, or the error of a file that cannot be read
+std::int64_t count_finished(const std::filesystem::path& dir) {
+    auto connection = db::open_database(dir / "campaign.db", db::OpenMode::read_only);
+    return connection.query_int("SELECT count(*) FROM campaign_run WHERE status = 'finished'").value_or(0);
+}
+
+}  // namespace
+
 std::int64_t finished_runs(const std::filesystem::path& dir) {
     try {
-        auto connection = db::open_database(dir / "campaign.db", db::OpenMode::read_only);
-        return connection.query_int("SELECT count(*) FROM campaign_run WHERE status = 'finished'")
-            .value_or(0);
+        return count_finished(dir);
     } catch (const std::exception&) {
         return 0;
     }
@@ -77,9 +85,7 @@ std::int64_t finished_runs_after_exit(const std::filesystem::path& dir) {
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
     while (true) {
         try {
-            auto connection = db::open_database(dir / "campaign.db", db::OpenMode::read_only);
-            return connection.query_int("SELECT count(*) FROM campaign_run WHERE status = 'finished'")
-                .value_or(0);
+            return count_finished(dir);
         } catch (const std::exception&) {
             if (std::chrono::steady_clock::now() >= deadline) throw;
             std::this_thread::sleep_for(std::chrono::milliseconds(50));
